@@ -1,0 +1,143 @@
+#pragma once
+// The mid-end optimization problem (paper §V, eq. midend_problem) assembled from a reference
+// path: decision vector, cost and analytic gradient, and the trajectory a decision vector
+// describes.
+//
+// Trajectory model. Segment s (eta_s = +-1, M_s pieces) is its own MincoS3<8> over
+// z = [p_x, p_y, q1..q6]. Its boundary states are
+//   - the global start / goal: the first / last reference node at rest (velocity and
+//     acceleration zero);
+//   - a gear switch g between segments g and g+1: a decision state
+//       position z_g (8), heading theta_g, joint velocity qd_g (6), joint acceleration qdd_g (6);
+//     base velocity pinned to eta_s * v_ns * [cos theta_g, sin theta_g] on each side (so the
+//     base reverses through the switch while yaw = atan2(eta zdot_y, eta zdot_x) = theta_g on
+//     both sides), base acceleration zero (as REMANI), joint velocity/acceleration shared by both
+//     sides (the arm stays C^2 through the switch).
+// Decision vector x (in this order): for each segment, its interior waypoints (8 x (M_s - 1),
+// column-major) then its M_s time variables tau; then for each gear switch
+// [z_g (8), theta_g, qd_g (6), qdd_g (6)]; last, one global time-scale variable sigma. Piece
+// durations are T_i = exp(sigma) * T(tau_i) (T(tau): time_map.hpp). sigma is redundant (it is 0
+// in the initial guess) but gives L-BFGS a direct direction for speeding the whole trajectory
+// up or down, which the penalties otherwise make a long, narrow valley in the tau_i.
+//
+// Cost = energy (W diagonal) + rho_T * T_total + penalties integrated over kappa samples per
+// piece (wheel omega/alpha, joint q/qd/qdd, pose residuals e_b and e_m to the front-end node
+// nearest in time: a sample at fraction j/kappa of piece i uses node i when j < kappa/2, node i+1
+// when j > kappa/2 and both at half weight when j = kappa/2), plus the boundary-heading term at
+// the global start and goal and the non-singular speed term (midend_settings.hpp). Pieces that
+// touch a gear switch use gear_sample_factor * kappa samples.
+//
+// Rest boundaries: at the global start and goal v = a = 0 and the sampled wheel terms see only
+// the guarded (zero) rates. Near a rest instant t0, p_xy'(t) = (t - t0)^2 U(t) with
+// U = j/2 + s (t - t0)/6 + c (t - t0)^2/24 (j, s, c = jerk, snap, crackle at t0), so the exact
+// limits are omega_b = (U x U')/|U|^2 and alpha_b = (U x U'')/|U|^2 - 2 (U x U')(U . U')/|U|^4 at
+// U = j/2, U' = s/6, U'' = c/12 (the same rule porter::Trajectory uses); they are penalized as
+// one extra sample (trapezoid end weight) at each rest boundary, with |U|^2 guarded by
+// boundary_jerk_guard_mps3^2/4.
+//
+// Not thread-safe (workspace inside); build one per solve. evaluate() does not allocate after
+// the first call.
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "porter/core/trajectory.hpp"
+#include "porter/midend/midend_limits.hpp"
+#include "porter/midend/midend_result.hpp"
+#include "porter/midend/midend_settings.hpp"
+#include "porter/midend/reference_path.hpp"
+#include "porter/minco/minco_s3.hpp"
+#include "porter/minco/penalty.hpp"
+
+namespace porter::midend {
+
+/// Cost terms, as bits, to evaluate a subset (gradient tests, diagnostics).
+enum Term : std::uint32_t {
+  kTermEnergy = 1u << 0,
+  kTermTime = 1u << 1,
+  kTermWheelVelocity = 1u << 2,
+  kTermWheelAcceleration = 1u << 3,
+  kTermJointPosition = 1u << 4,
+  kTermJointVelocity = 1u << 5,
+  kTermJointAcceleration = 1u << 6,
+  kTermResidualBase = 1u << 7,
+  kTermResidualArm = 1u << 8,
+  kTermBoundaryHeading = 1u << 9,
+  kTermMinSpeed = 1u << 10,
+  kTermAll = (1u << 11) - 1,
+};
+
+class MidendProblem {
+ public:
+  using Minco = minco::MincoS3<kTrajDim>;
+
+  /// `reference` must come from build_reference_path() (kOk) and `limits` must be valid().
+  MidendProblem(ReferencePath reference, const MidendLimits& limits, const MidendSettings& settings);
+
+  int num_variables() const { return num_variables_; }
+  int num_segments() const { return static_cast<int>(reference_.segments.size()); }
+  int num_pieces() const { return reference_.num_pieces(); }
+  const ReferencePath& reference() const { return reference_; }
+
+  /// The front-end path as a decision vector: nodes as waypoints and gear states, the reference
+  /// durations, gear headings = node yaw, joint rates zero.
+  Eigen::VectorXd initial_guess() const;
+
+  /// Restricts evaluate() to a subset of Term bits (default kTermAll).
+  void set_terms(std::uint32_t mask) { terms_ = mask; }
+
+  /// Cost at x (size num_variables()); writes the gradient to grad (same size) when non-null and
+  /// the per-term split to breakdown when non-null. Returns +infinity (gradient zeroed) when a
+  /// MINCO system is singular or a value is non-finite.
+  double evaluate(const double* x, double* grad, CostBreakdown* breakdown);
+  double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* grad, CostBreakdown* breakdown) {
+    return evaluate(x.data(), grad ? grad->data() : nullptr, breakdown);
+  }
+
+  /// The pieces x describes, segment after segment (eta per piece). Empty if x is unusable.
+  std::vector<TrajectoryPiece> pieces(const double* x);
+  /// Yaw at the start of the trajectory (the first reference node's).
+  double start_yaw_rad() const { return reference_.segments.front().nodes.front().base.yaw_rad; }
+
+ private:
+  struct SegmentLayout {
+    int q_offset = 0;     ///< first waypoint variable
+    int tau_offset = 0;   ///< first time variable
+    int pieces = 0;
+    std::vector<char> min_speed;  ///< per piece: apply the non-singular speed term
+    std::vector<int> kappa;       ///< per piece: sampling intervals
+  };
+  struct GearLayout {
+    int offset = 0;       ///< [z (8), theta, qd (6), qdd (6)]
+  };
+  static constexpr int kGearVars = kTrajDim + 1 + 2 * kNumArmJoints;
+
+  /// Builds the segment's MINCO from x; false if the system is unusable.
+  bool build_segment(int s, const double* x);
+  double piece_penalty(int s, int i, CostBreakdown* breakdown);
+  double boundary_heading(int s, bool at_start, CostBreakdown* breakdown);
+  double rest_rates(int s, bool at_start, CostBreakdown* breakdown);
+
+  ReferencePath reference_;
+  MidendLimits limits_;
+  MidendSettings settings_;
+  minco::PenaltyFunction penalty_;
+  Minco::Vector energy_weights_;
+  std::uint32_t terms_ = kTermAll;
+  int num_variables_ = 0;
+  int time_scale_index_ = 0;
+  std::vector<SegmentLayout> segment_layout_;
+  std::vector<GearLayout> gear_layout_;
+
+  // Workspace, one entry per segment.
+  std::vector<Minco> minco_;
+  std::vector<Eigen::VectorXd> durations_, dtdtau_;
+  std::vector<Minco::Coefficients> grad_c_;
+  std::vector<Eigen::VectorXd> grad_t_;
+  std::vector<Minco::Waypoints> waypoints_, grad_q_;
+  Eigen::VectorXd grad_t_total_;
+};
+
+}  // namespace porter::midend

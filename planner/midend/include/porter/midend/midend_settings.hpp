@@ -1,0 +1,113 @@
+#pragma once
+// Parameters of the MINCO mid-end (paper §V). Every field has an in-class default that is the
+// value used by the planner daemon unless config overrides it; units are in the names.
+// Plain data; copy freely.
+
+#include "porter/minco/penalty.hpp"
+
+namespace porter::midend {
+
+/// liblbfgs line-search choices exposed by the mid-end.
+enum class LineSearch { kMoreThuente, kBacktrackingWolfe, kBacktrackingStrongWolfe };
+
+struct MidendSettings {
+  // --- Transcription ---------------------------------------------------------------------
+  /// kappa: trapezoid intervals per piece for every penalty integral (kappa + 1 samples).
+  /// Range [2, 64]. REMANI and GCOPTER use 16.
+  int samples_per_piece = 16;
+  /// Pieces that touch a gear switch are sampled this many times more densely: near the switch
+  /// the base runs at v_ns and its yaw rate/acceleration change fast. [1, 16].
+  int gear_sample_factor = 4;
+
+  // --- Objective: control effort and time -------------------------------------------------
+  /// Diagonal of W for p_x, p_y (weights the squared base jerk, s^5/m^2 per unit cost). > 0.
+  double energy_weight_base = 1.0;
+  /// Diagonal of W for q1..q6 (weights the squared joint jerk). > 0.
+  double energy_weight_joint = 1.0;
+  /// rho_T: cost per second of total duration. > 0; larger trades smoothness for speed.
+  double time_weight_per_s = 20.0;
+
+  // --- Penalties (constraint transcription) -----------------------------------------------
+  /// Shape of the one-sided penalty applied to every normalized violation x (x <= 0 is
+  /// feasible). Wheel, joint-rate and residual constraints are normalized to be dimensionless
+  /// (e.g. omega^2 / omega_max^2 - 1); joint positions are in rad.
+  minco::PenaltyKind penalty_kind = minco::PenaltyKind::kSmoothedL1;
+  /// mu of the smoothed L1, in units of the normalized violation. (0, 1].
+  double penalty_smoothing = 1e-2;
+  /// Weights (cost per second of violation at unit normalized violation). >= 0; 0 disables.
+  double weight_wheel_velocity = 2e4;       ///< |omega_l|, |omega_r| <= wheel_omega_max
+  double weight_wheel_acceleration = 2e4;   ///< |alpha_l|, |alpha_r| <= wheel_alpha_max
+  double weight_joint_position = 2e4;       ///< lower <= q <= upper
+  double weight_joint_velocity = 2e4;       ///< |q_dot| <= velocity_max
+  double weight_joint_acceleration = 2e4;   ///< |q_ddot| <= acceleration_max
+  double weight_residual_base = 2e4;        ///< e_b (paper eq. pose_residual) <= 0
+  double weight_residual_arm = 2e4;         ///< e_m <= 0
+  /// Keeps |p_xy'| >= min_speed_fraction * v_ns inside every segment (not on the pieces that
+  /// leave the global start or reach the goal, which are at rest, nor on pieces whose
+  /// reference edge does not move the base), so the yaw atan2(eta v) and the wheel rates stay
+  /// defined and bounded (REMANI's non-singular speed). Normalized as 1 - |v|^2 / v_min^2.
+  double weight_min_speed = 2e4;
+  double min_speed_fraction = 1.0;
+  /// Weight of the rest-boundary heading term: at the global start and goal the base is at
+  /// rest, so its direction of motion is the jerk's; this aligns eta * jerk with the node's
+  /// yaw (cost weight * (1 - cos angle), gated to vanish when the base does not move). >= 0.
+  double weight_boundary_heading = 1e4;
+
+  // --- Pose residuals to the front-end path -----------------------------------------------
+  /// rho_b: bound on sqrt(|p - p_k|^2 + w_phi * angle(phi, phi_k)^2), m. > 0.
+  double residual_base_bound_m = 0.35;
+  /// rho_m: bound on |q - q_k| (Euclidean over the 6 joints), rad. > 0.
+  double residual_arm_bound_rad = 0.35;
+  /// w_phi: m^2 per rad^2 in the base residual. >= 0.
+  double residual_yaw_weight_m2 = 0.1;
+
+  // --- Singularity guards (see diff_drive.hpp) --------------------------------------------
+  /// epsilon in |v|^2 + epsilon^2 wherever the base speed divides (yaw rate, wheel rates).
+  /// Only speeds below ~epsilon are affected. > 0.
+  double speed_guard_mps = 1e-3;
+  /// The yaw part of e_b is multiplied by |v|^2 / (|v|^2 + gate^2): yaw is undefined at rest.
+  double yaw_gate_speed_mps = 2e-2;
+  /// The boundary heading term is gated the same way on |jerk|, m/s^3.
+  double boundary_jerk_guard_mps3 = 1e-2;
+
+  // --- Reference path preparation ----------------------------------------------------------
+  /// Consecutive nodes closer than this in base position (m) and every joint (rad) are merged.
+  double coincident_tolerance = 1e-6;
+  /// A segment whose base path is shorter than this (m) carries no base motion: its arm motion
+  /// is merged into a neighbour and its gear switches are dropped.
+  double min_segment_length_m = 1e-3;
+  /// Edges longer than densify_factor * rho (base metric or joints) are split into pieces
+  /// with linearly interpolated reference nodes, so the nearest node stays within reach. >= 1.
+  /// The residual uses the node nearest in *time*; on a rest-to-rest piece the position at half
+  /// the piece's duration is ~0.8 of the edge away from the start node, so edges must stay
+  /// below ~1.2 rho for the residual to be satisfiable at all.
+  double densify_factor = 1.2;
+  /// Upper bound on pieces inserted per front-end edge by densification. >= 1.
+  int max_pieces_per_edge = 16;
+  /// Initial durations: max of the front-end's times and a guess at this fraction of the
+  /// robot's speed limits. (0, 1].
+  double initial_speed_fraction = 0.5;
+  /// Floor on initial piece durations, s. > 0.
+  double min_initial_piece_duration_s = 0.1;
+
+  // --- Solver (liblbfgs) ----------------------------------------------------------------------
+  int max_iterations = 1000;                ///< iteration cap; >= 1
+  /// Stop when (f_{k-past} - f_k) / f_k < relative_cost_tolerance. > 0.
+  double relative_cost_tolerance = 1e-4;
+  int relative_cost_past = 3;               ///< iterations over which the decrease is measured
+  int memory_size = 32;                     ///< L-BFGS corrections kept; [3, 64]
+  int max_line_search = 40;                 ///< evaluations per line search
+  /// L-BFGS restarts (fresh curvature memory) after a run that stopped on the relative-decrease
+  /// test or a stalled line search but still lowered the cost by more than
+  /// restart_min_decrease * cost. >= 0.
+  int max_restarts = 8;
+  double restart_min_decrease = 1e-3;
+  /// Backtracking with the regular Wolfe condition: on these stiff penalized costs liblbfgs'
+  /// More-Thuente search stops early with LBFGSERR_ROUNDING_ERROR far from the optimum (measured
+  /// on the synthetic paths: total duration 30-50 % longer).
+  LineSearch line_search = LineSearch::kBacktrackingWolfe;
+  /// Time budget used by MidEnd::solve() when the caller passes a non-positive one, s.
+  double default_time_budget_s = 0.1;
+};
+
+}  // namespace porter::midend

@@ -1,0 +1,357 @@
+#include "porter/midend/midend_problem.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "porter/minco/time_map.hpp"
+#include "porter/midend/diff_drive.hpp"
+#include "sample_penalty.hpp"
+
+namespace porter::midend {
+namespace {
+
+constexpr std::uint32_t kSampledTerms = kTermWheelVelocity | kTermWheelAcceleration |
+                                        kTermJointPosition | kTermJointVelocity |
+                                        kTermJointAcceleration | kTermResidualBase |
+                                        kTermResidualArm | kTermMinSpeed;
+
+TrajVector node_vector(const RobotConfiguration& c) {
+  TrajVector z;
+  z << c.base.x_m, c.base.y_m, c.q_rad;
+  return z;
+}
+
+}  // namespace
+
+MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits,
+                             const MidendSettings& settings)
+    : reference_(std::move(reference)), limits_(limits), settings_(settings) {
+  penalty_.kind = settings_.penalty_kind;
+  penalty_.mu = settings_.penalty_smoothing;
+  energy_weights_.setConstant(settings_.energy_weight_joint);
+  energy_weights_.head<2>().setConstant(settings_.energy_weight_base);
+
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  int offset = 0;
+  segment_layout_.resize(num_segments);
+  for (int s = 0; s < num_segments; ++s) {
+    const int m = reference_.segments[s].num_pieces();
+    segment_layout_[s].pieces = m;
+    segment_layout_[s].q_offset = offset;
+    offset += kTrajDim * (m - 1);
+    segment_layout_[s].tau_offset = offset;
+    offset += m;
+  }
+  for (int s = 0; s < num_segments; ++s) {
+    const ReferenceSegment& seg = reference_.segments[s];
+    const int m = seg.num_pieces();
+    segment_layout_[s].min_speed.assign(m, 1);
+    for (int i = 0; i < m; ++i) {
+      const double moved = std::hypot(seg.nodes[i + 1].base.x_m - seg.nodes[i].base.x_m,
+                                      seg.nodes[i + 1].base.y_m - seg.nodes[i].base.y_m);
+      if (moved < settings_.min_segment_length_m) segment_layout_[s].min_speed[i] = 0;
+    }
+    if (s == 0) segment_layout_[s].min_speed.front() = 0;
+    if (s + 1 == num_segments) segment_layout_[s].min_speed.back() = 0;
+    segment_layout_[s].kappa.assign(m, settings_.samples_per_piece);
+    const int dense = settings_.samples_per_piece * settings_.gear_sample_factor;
+    if (s > 0) segment_layout_[s].kappa.front() = dense;
+    if (s + 1 < num_segments) segment_layout_[s].kappa.back() = dense;
+  }
+  gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
+  for (auto& g : gear_layout_) {
+    g.offset = offset;
+    offset += kGearVars;
+  }
+  time_scale_index_ = offset++;  // global log time scale (conditioning; see header)
+  num_variables_ = offset;
+
+  minco_.resize(num_segments);
+  durations_.resize(num_segments);
+  dtdtau_.resize(num_segments);
+  grad_c_.resize(num_segments);
+  grad_t_.resize(num_segments);
+  waypoints_.resize(num_segments);
+  grad_q_.resize(num_segments);
+  for (int s = 0; s < num_segments; ++s) {
+    const int m = segment_layout_[s].pieces;
+    durations_[s].resize(m);
+    dtdtau_[s].resize(m);
+    grad_c_[s].resize(minco::kPieceCoeffs * m, kTrajDim);
+    grad_t_[s].resize(m);
+    waypoints_[s].resize(kTrajDim, m - 1);
+    grad_q_[s].resize(kTrajDim, m - 1);
+  }
+}
+
+Eigen::VectorXd MidendProblem::initial_guess() const {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(num_variables_);
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  for (int s = 0; s < num_segments; ++s) {
+    const ReferenceSegment& seg = reference_.segments[s];
+    const SegmentLayout& l = segment_layout_[s];
+    for (int i = 0; i + 1 < l.pieces; ++i) {
+      x.segment<kTrajDim>(l.q_offset + kTrajDim * i) = node_vector(seg.nodes[i + 1]);
+    }
+    for (int i = 0; i < l.pieces; ++i) {
+      x[l.tau_offset + i] = minco::tau_from_duration(seg.durations_s[i]);
+    }
+    if (s + 1 < num_segments) {
+      const RobotConfiguration& gear = seg.nodes.back();
+      const int o = gear_layout_[s].offset;
+      x.segment<kTrajDim>(o) = node_vector(gear);
+      x[o + kTrajDim] = gear.base.yaw_rad;
+    }
+  }
+  return x;
+}
+
+bool MidendProblem::build_segment(int s, const double* x) {
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  const ReferenceSegment& seg = reference_.segments[s];
+  const SegmentLayout& l = segment_layout_[s];
+  const double eta = seg.eta;
+  const double vns = limits_.nonsingular_speed_mps;
+
+  auto gear_state = [&](int g, Minco::BoundaryState& st) {
+    const double* gx = x + gear_layout_[g].offset;
+    st.col(0) = Eigen::Map<const TrajVector>(gx);
+    const double theta = gx[kTrajDim];
+    st(0, 1) = eta * vns * std::cos(theta);
+    st(1, 1) = eta * vns * std::sin(theta);
+    st.col(1).tail<kNumArmJoints>() = Eigen::Map<const JointVector>(gx + kTrajDim + 1);
+    st(0, 2) = 0.0;
+    st(1, 2) = 0.0;
+    st.col(2).tail<kNumArmJoints>() =
+        Eigen::Map<const JointVector>(gx + kTrajDim + 1 + kNumArmJoints);
+  };
+
+  Minco::BoundaryState head = Minco::BoundaryState::Zero();
+  Minco::BoundaryState tail = Minco::BoundaryState::Zero();
+  if (s == 0) {
+    head.col(0) = node_vector(seg.nodes.front());
+  } else {
+    gear_state(s - 1, head);
+  }
+  if (s + 1 == num_segments) {
+    tail.col(0) = node_vector(seg.nodes.back());
+  } else {
+    gear_state(s, tail);
+  }
+  waypoints_[s] = Eigen::Map<const Minco::Waypoints>(x + l.q_offset, kTrajDim, l.pieces - 1);
+  for (int i = 0; i < l.pieces; ++i) {
+    const double tau = x[l.tau_offset + i];
+    const double scale = std::exp(x[time_scale_index_]);
+    durations_[s][i] = scale * minco::duration_from_tau(tau);
+    dtdtau_[s][i] = scale * minco::duration_derivative(tau);
+  }
+  if (!head.allFinite() || !tail.allFinite() || !waypoints_[s].allFinite()) return false;
+  return minco_[s].generate(head, tail, waypoints_[s], durations_[s]);
+}
+
+double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
+  const ReferenceSegment& seg = reference_.segments[s];
+  detail::SamplePenalty integrand;
+  integrand.limits = &limits_;
+  integrand.settings = &settings_;
+  integrand.penalty = penalty_;
+  integrand.terms = terms_;
+  integrand.eta = seg.eta;
+  integrand.node_start = &seg.nodes[i];
+  integrand.node_end = &seg.nodes[i + 1];
+  integrand.duration_s = durations_[s][i];
+  integrand.min_speed_mps =
+      segment_layout_[s].min_speed[i] ? settings_.min_speed_fraction * limits_.nonsingular_speed_mps : 0.0;
+  integrand.breakdown = breakdown;
+  return minco::integrate_piece_penalty<kTrajDim>(
+      minco_[s].piece(i), durations_[s][i], segment_layout_[s].kappa[i], integrand,
+      grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i), grad_t_[s][i]);
+}
+
+double MidendProblem::boundary_heading(int s, bool at_start, CostBreakdown* breakdown) {
+  const ReferenceSegment& seg = reference_.segments[s];
+  const int i = at_start ? 0 : segment_layout_[s].pieces - 1;
+  const double t = at_start ? 0.0 : durations_[s][i];
+  const RobotConfiguration& node = at_start ? seg.nodes.front() : seg.nodes.back();
+  const auto c = minco_[s].piece(i);
+  const minco::Basis b3 = minco::basis(t, 3);
+  const Eigen::Vector2d j = c.leftCols<2>().transpose() * b3;
+  const Eigen::Vector2d u =
+      seg.eta * Eigen::Vector2d(std::cos(node.base.yaw_rad), std::sin(node.base.yaw_rad));
+  const double eps2 = settings_.boundary_jerk_guard_mps3 * settings_.boundary_jerk_guard_mps3;
+  const double q = j.squaredNorm();
+  const double n2 = q + eps2;
+  const double n = std::sqrt(n2);
+  const double gate = q / n2;
+  const double cosine = u.dot(j) / n;
+  const double w = settings_.weight_boundary_heading;
+  const double cost = w * gate * (1.0 - cosine);
+  const Eigen::Vector2d dgate = (2.0 * eps2 / (n2 * n2)) * j;
+  const Eigen::Vector2d dcos = u / n - (u.dot(j) / (n2 * n)) * j;
+  const Eigen::Vector2d dj = w * (dgate * (1.0 - cosine) - gate * dcos);
+  auto gc = grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i);
+  gc.leftCols<2>().noalias() += b3 * dj.transpose();
+  if (!at_start) {
+    const Eigen::Vector2d snap = c.leftCols<2>().transpose() * minco::basis(t, 4);
+    grad_t_[s][i] += dj.dot(snap);
+  }
+  if (breakdown) breakdown->boundary_heading += cost;
+  return cost;
+}
+
+double MidendProblem::rest_rates(int s, bool at_start, CostBreakdown* breakdown) {
+  const bool wv = (terms_ & kTermWheelVelocity) && settings_.weight_wheel_velocity > 0.0;
+  const bool wa = (terms_ & kTermWheelAcceleration) && settings_.weight_wheel_acceleration > 0.0;
+  if (!wv && !wa) return 0.0;
+  const int i = at_start ? 0 : segment_layout_[s].pieces - 1;
+  const double t = at_start ? 0.0 : durations_[s][i];
+  const auto c = minco_[s].piece(i);
+  const minco::Basis b3 = minco::basis(t, 3), b4 = minco::basis(t, 4), b5 = minco::basis(t, 5);
+  const Eigen::Vector2d u = 0.5 * (c.leftCols<2>().transpose() * b3);
+  const Eigen::Vector2d u1 = (1.0 / 6.0) * (c.leftCols<2>().transpose() * b4);
+  const Eigen::Vector2d u2 = (1.0 / 12.0) * (c.leftCols<2>().transpose() * b5);
+  // omega = (u x u1) / n2, alpha = (u x u2) / n2 - 2 (u x u1)(u . u1) / n2^2, n2 = |u|^2 + eps^2.
+  const double eps = 0.5 * settings_.boundary_jerk_guard_mps3;
+  const double n2 = u.squaredNorm() + eps * eps;
+  const double cr1 = cross2(u, u1), cr2 = cross2(u, u2), d1 = u.dot(u1);
+  const double omega = cr1 / n2;
+  const double alpha = cr2 / n2 - 2.0 * cr1 * d1 / (n2 * n2);
+  const Eigen::Vector2d dcr1_du(u1.y(), -u1.x()), dcr1_du1(-u.y(), u.x());
+  const Eigen::Vector2d dcr2_du(u2.y(), -u2.x()), dcr2_du2(-u.y(), u.x());
+  const Eigen::Vector2d domega_du = dcr1_du / n2 - (2.0 * cr1 / (n2 * n2)) * u;
+  const Eigen::Vector2d domega_du1 = dcr1_du1 / n2;
+  const Eigen::Vector2d dalpha_du = dcr2_du / n2 - (2.0 * cr2 / (n2 * n2)) * u -
+                                    (2.0 / (n2 * n2)) * (dcr1_du * d1 + cr1 * u1) +
+                                    (8.0 * cr1 * d1 / (n2 * n2 * n2)) * u;
+  const Eigen::Vector2d dalpha_du1 = -(2.0 / (n2 * n2)) * (dcr1_du1 * d1 + cr1 * u);
+  const Eigen::Vector2d dalpha_du2 = dcr2_du2 / n2;
+
+  const int kappa = segment_layout_[s].kappa[i];
+  const double weight_s = 0.5 * durations_[s][i] / kappa;  // a trapezoid end sample
+  const double half_over_r = 0.5 * limits_.track_width_m / limits_.wheel_radius_m;
+  double cost = 0.0, cost_v = 0.0, cost_a = 0.0;
+  Eigen::Vector2d gu = Eigen::Vector2d::Zero(), gu1 = Eigen::Vector2d::Zero(),
+                  gu2 = Eigen::Vector2d::Zero();
+  for (const double side : {-1.0, 1.0}) {  // the speed and a_b are zero at rest
+    double dphi = 0.0;
+    if (wv) {
+      const double w = side * half_over_r * omega;
+      const double inv = 1.0 / (limits_.wheel_omega_max_radps * limits_.wheel_omega_max_radps);
+      cost_v += settings_.weight_wheel_velocity * penalty_.value(w * w * inv - 1.0, &dphi);
+      const double k = settings_.weight_wheel_velocity * dphi * 2.0 * w * inv * side * half_over_r;
+      gu += k * weight_s * domega_du;
+      gu1 += k * weight_s * domega_du1;
+    }
+    if (wa) {
+      const double a = side * half_over_r * alpha;
+      const double inv = 1.0 / (limits_.wheel_alpha_max_radps2 * limits_.wheel_alpha_max_radps2);
+      cost_a += settings_.weight_wheel_acceleration * penalty_.value(a * a * inv - 1.0, &dphi);
+      const double k = settings_.weight_wheel_acceleration * dphi * 2.0 * a * inv * side * half_over_r;
+      gu += k * weight_s * dalpha_du;
+      gu1 += k * weight_s * dalpha_du1;
+      gu2 += k * weight_s * dalpha_du2;
+    }
+  }
+  cost = weight_s * (cost_v + cost_a);
+  if (cost == 0.0 && gu.isZero() && gu1.isZero() && gu2.isZero()) return 0.0;
+  // u = jerk/2, u1 = snap/6, u2 = crackle/12 of the piece at t.
+  const Eigen::Vector2d gj = 0.5 * gu, gs = gu1 / 6.0, gc = gu2 / 12.0;
+  auto grad = grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i);
+  grad.leftCols<2>().noalias() += b3 * gj.transpose() + b4 * gs.transpose() + b5 * gc.transpose();
+  grad_t_[s][i] += (cost_v + cost_a) * 0.5 / kappa;
+  if (!at_start) {
+    const Eigen::Vector2d snap = c.leftCols<2>().transpose() * b4;
+    const Eigen::Vector2d crackle = c.leftCols<2>().transpose() * b5;
+    grad_t_[s][i] += gj.dot(snap) + gs.dot(crackle);
+  }
+  if (breakdown) {
+    breakdown->wheel_velocity += weight_s * cost_v;
+    breakdown->wheel_acceleration += weight_s * cost_a;
+  }
+  return cost;
+}
+
+double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* breakdown) {
+  CostBreakdown local;
+  CostBreakdown& b = breakdown ? *breakdown : local;
+  b = CostBreakdown{};
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  auto fail = [&]() {
+    if (grad) std::fill(grad, grad + num_variables_, 0.0);
+    return std::numeric_limits<double>::infinity();
+  };
+
+  for (int s = 0; s < num_segments; ++s) {
+    if (!build_segment(s, x)) return fail();
+    grad_c_[s].setZero();
+    grad_t_[s].setZero();
+    if (terms_ & kTermEnergy) {
+      b.energy += minco_[s].energy(energy_weights_);
+      minco_[s].add_energy_gradient(energy_weights_, grad_c_[s], grad_t_[s]);
+    }
+    if (terms_ & kTermTime) {
+      b.time += settings_.time_weight_per_s * durations_[s].sum();
+      grad_t_[s].array() += settings_.time_weight_per_s;
+    }
+    if (terms_ & kSampledTerms) {
+      for (int i = 0; i < segment_layout_[s].pieces; ++i) piece_penalty(s, i, &b);
+    }
+    if (s == 0) rest_rates(s, true, &b);
+    if (s + 1 == num_segments) rest_rates(s, false, &b);
+    if ((terms_ & kTermBoundaryHeading) && settings_.weight_boundary_heading > 0.0) {
+      if (s == 0) boundary_heading(s, true, &b);
+      if (s + 1 == num_segments) boundary_heading(s, false, &b);
+    }
+  }
+  const double cost = b.total();
+  if (!std::isfinite(cost)) return fail();
+  if (!grad) return cost;
+
+  std::fill(grad, grad + num_variables_, 0.0);
+  const double vns = limits_.nonsingular_speed_mps;
+  auto add_gear = [&](int g, double eta, const Minco::BoundaryState& gs) {
+    const int o = gear_layout_[g].offset;
+    const double theta = x[o + kTrajDim];
+    for (int k = 0; k < kTrajDim; ++k) grad[o + k] += gs(k, 0);
+    grad[o + kTrajDim] += eta * vns * (-gs(0, 1) * std::sin(theta) + gs(1, 1) * std::cos(theta));
+    for (int d = 0; d < kNumArmJoints; ++d) {
+      grad[o + kTrajDim + 1 + d] += gs(2 + d, 1);
+      grad[o + kTrajDim + 1 + kNumArmJoints + d] += gs(2 + d, 2);
+    }
+  };
+  for (int s = 0; s < num_segments; ++s) {
+    const SegmentLayout& l = segment_layout_[s];
+    Minco::BoundaryState gh, gt;
+    minco_[s].propagate_gradient(grad_c_[s], grad_t_[s], grad_q_[s], grad_t_total_, gh, gt);
+    Eigen::Map<Minco::Waypoints>(grad + l.q_offset, kTrajDim, l.pieces - 1) = grad_q_[s];
+    for (int i = 0; i < l.pieces; ++i) {
+      grad[l.tau_offset + i] = grad_t_total_[i] * dtdtau_[s][i];
+      grad[time_scale_index_] += grad_t_total_[i] * durations_[s][i];
+    }
+    const double eta = reference_.segments[s].eta;
+    if (s > 0) add_gear(s - 1, eta, gh);
+    if (s + 1 < num_segments) add_gear(s, eta, gt);
+  }
+  for (int k = 0; k < num_variables_; ++k) {
+    if (!std::isfinite(grad[k])) return fail();
+  }
+  return cost;
+}
+
+std::vector<TrajectoryPiece> MidendProblem::pieces(const double* x) {
+  std::vector<TrajectoryPiece> out;
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  for (int s = 0; s < num_segments; ++s) {
+    if (!build_segment(s, x)) return {};
+    for (int i = 0; i < segment_layout_[s].pieces; ++i) {
+      TrajectoryPiece p;
+      p.duration_s = durations_[s][i];
+      p.eta = reference_.segments[s].eta;
+      p.coeffs = minco_[s].piece(i);
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+}  // namespace porter::midend

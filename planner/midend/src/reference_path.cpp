@@ -1,0 +1,199 @@
+#include "porter/midend/reference_path.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "porter/midend/diff_drive.hpp"
+
+namespace porter::midend {
+namespace {
+
+struct Node {
+  RobotConfiguration config;
+  double time_s = 0.0;
+};
+struct Segment {
+  int eta = 1;
+  std::vector<Node> nodes;
+};
+
+double base_distance(const Node& a, const Node& b) {
+  return std::hypot(b.config.base.x_m - a.config.base.x_m, b.config.base.y_m - a.config.base.y_m);
+}
+
+bool coincident(const Node& a, const Node& b, double tol) {
+  return base_distance(a, b) <= tol &&
+         (b.config.q_rad - a.config.q_rad).cwiseAbs().maxCoeff() <= tol;
+}
+
+double base_length(const Segment& s) {
+  double len = 0.0;
+  for (std::size_t i = 1; i < s.nodes.size(); ++i) len += base_distance(s.nodes[i - 1], s.nodes[i]);
+  return len;
+}
+
+void drop_coincident(Segment& s, double tol) {
+  std::vector<Node> out;
+  out.reserve(s.nodes.size());
+  for (const Node& n : s.nodes) {
+    if (out.empty() || !coincident(out.back(), n, tol)) out.push_back(n);
+  }
+  s.nodes = std::move(out);
+}
+
+bool finite_node(const planner::PathNode& n) {
+  return std::isfinite(n.config.base.x_m) && std::isfinite(n.config.base.y_m) &&
+         std::isfinite(n.config.base.yaw_rad) && n.config.q_rad.allFinite() &&
+         std::isfinite(n.time_s);
+}
+
+Node interpolate(const Node& a, const Node& b, double s) {
+  Node n;
+  n.config.base.x_m = a.config.base.x_m + s * (b.config.base.x_m - a.config.base.x_m);
+  n.config.base.y_m = a.config.base.y_m + s * (b.config.base.y_m - a.config.base.y_m);
+  n.config.base.yaw_rad =
+      a.config.base.yaw_rad + s * angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad);
+  n.config.q_rad = a.config.q_rad + s * (b.config.q_rad - a.config.q_rad);
+  n.time_s = a.time_s + s * (b.time_s - a.time_s);
+  return n;
+}
+
+double heuristic_duration(const Node& a, const Node& b, const MidendLimits& limits,
+                          const MidendSettings& settings) {
+  const double f = settings.initial_speed_fraction;
+  double t = settings.min_initial_piece_duration_s;
+  t = std::max(t, base_distance(a, b) / (f * limits.max_base_speed_mps()));
+  t = std::max(t, std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad)) /
+                      (f * limits.max_base_yaw_rate_radps()));
+  for (int j = 0; j < kNumArmJoints; ++j) {
+    t = std::max(t, std::abs(b.config.q_rad[j] - a.config.q_rad[j]) /
+                        (f * limits.joint_velocity_max_radps[j]));
+  }
+  return t;
+}
+
+}  // namespace
+
+ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const MidendLimits& limits,
+                                    const MidendSettings& settings) {
+  ReferenceBuild out;
+  const double tol = settings.coincident_tolerance;
+
+  // 1-2. validate and join.
+  std::vector<Segment> segs;
+  for (std::size_t si = 0; si < path.segments.size(); ++si) {
+    const planner::PathSegment& in = path.segments[si];
+    if (in.eta != 1 && in.eta != -1) {
+      out.outcome = ReferenceOutcome::kMalformed;
+      out.message = "segment " + std::to_string(si) + ": eta is " + std::to_string(in.eta) +
+                    ", expected +1 or -1";
+      return out;
+    }
+    Segment s;
+    s.eta = in.eta;
+    for (std::size_t ni = 0; ni < in.nodes.size(); ++ni) {
+      if (!finite_node(in.nodes[ni])) {
+        out.outcome = ReferenceOutcome::kMalformed;
+        out.message = "segment " + std::to_string(si) + " node " + std::to_string(ni) +
+                      ": non-finite configuration or time";
+        return out;
+      }
+      s.nodes.push_back({in.nodes[ni].config, in.nodes[ni].time_s});
+    }
+    if (s.nodes.empty()) continue;
+    if (!segs.empty() && !coincident(segs.back().nodes.back(), s.nodes.front(), tol)) {
+      s.nodes.insert(s.nodes.begin(), segs.back().nodes.back());
+    }
+    segs.push_back(std::move(s));
+  }
+  if (segs.empty()) {
+    out.outcome = ReferenceOutcome::kEmpty;
+    out.message = "the path has no nodes";
+    return out;
+  }
+
+  // 3. coincident nodes.
+  for (Segment& s : segs) drop_coincident(s, tol);
+
+  // 4. zero-length segments: keep their arm motion, drop their gear switches.
+  {
+    std::vector<Segment> kept;
+    std::vector<Node> carry;  // arm-only nodes preceding the first moving segment
+    for (Segment& s : segs) {
+      if (base_length(s) >= settings.min_segment_length_m) {
+        if (!carry.empty()) {
+          std::vector<Node> nodes = carry;
+          nodes.insert(nodes.end(), s.nodes.begin(), s.nodes.end());
+          s.nodes = std::move(nodes);
+          carry.clear();
+        }
+        kept.push_back(std::move(s));
+      } else if (!kept.empty()) {
+        kept.back().nodes.insert(kept.back().nodes.end(), s.nodes.begin(), s.nodes.end());
+      } else {
+        carry.insert(carry.end(), s.nodes.begin(), s.nodes.end());
+      }
+    }
+    if (kept.empty()) {
+      Segment s;
+      s.eta = segs.front().eta;
+      s.nodes = std::move(carry);
+      kept.push_back(std::move(s));
+    }
+    segs = std::move(kept);
+  }
+
+  // 5. merge equal directions, then drop the duplicates the joins created.
+  {
+    std::vector<Segment> merged;
+    for (Segment& s : segs) {
+      if (!merged.empty() && merged.back().eta == s.eta) {
+        merged.back().nodes.insert(merged.back().nodes.end(), s.nodes.begin(), s.nodes.end());
+      } else {
+        merged.push_back(std::move(s));
+      }
+    }
+    segs = std::move(merged);
+    for (Segment& s : segs) drop_coincident(s, tol);
+  }
+
+  if (segs.size() == 1 && segs.front().nodes.size() == 1) {
+    out.outcome = ReferenceOutcome::kNoMotion;
+    out.message = "every node of the path coincides";
+    out.single = segs.front().nodes.front().config;
+    return out;
+  }
+
+  // 6-7. densify and allocate time.
+  const double base_step = settings.densify_factor * settings.residual_base_bound_m;
+  const double arm_step = settings.densify_factor * settings.residual_arm_bound_rad;
+  for (const Segment& s : segs) {
+    ReferenceSegment r;
+    r.eta = s.eta;
+    r.nodes.push_back(s.nodes.front().config);
+    for (std::size_t i = 1; i < s.nodes.size(); ++i) {
+      const Node& a = s.nodes[i - 1];
+      const Node& b = s.nodes[i];
+      const double dyaw = angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad);
+      const double db = std::sqrt(base_distance(a, b) * base_distance(a, b) +
+                                  settings.residual_yaw_weight_m2 * dyaw * dyaw);
+      const double dq = (b.config.q_rad - a.config.q_rad).norm();
+      int m = static_cast<int>(std::ceil(std::max(db / base_step, dq / arm_step) - 1e-9));
+      m = std::clamp(m, 1, settings.max_pieces_per_edge);
+      const double frontend_dt = (b.time_s - a.time_s) / m;
+      Node prev = a;
+      for (int k = 1; k <= m; ++k) {
+        const Node n = k == m ? b : interpolate(a, b, static_cast<double>(k) / m);
+        const double guess = heuristic_duration(prev, n, limits, settings);
+        r.durations_s.push_back(std::max(guess, frontend_dt));
+        r.nodes.push_back(n.config);
+        prev = n;
+      }
+    }
+    out.path.segments.push_back(std::move(r));
+  }
+  out.outcome = ReferenceOutcome::kOk;
+  return out;
+}
+
+}  // namespace porter::midend

@@ -1,0 +1,108 @@
+// MINCO / mid-end micro-benchmarks.
+//
+//   cmake --build <build> --target porter-bench-minco
+//   <build>/tests/bench/porter-bench-minco --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//
+// Fixtures are frozen (tests/planner/midend/support/synthetic_paths.*): a straight line with
+// N pieces for the per-piece costs and forest_slalom(50) (~20 m, 50 nodes, one reverse
+// manoeuvre, arm motion) for the full solve. Do not modify them or the numbers stop being
+// comparable.
+//
+//   (time_per_piece is CPU time per iteration divided by the number of pieces: "512n" = 512 ns.)
+//   BM_MincoCore/N        MincoS3<8> alone: solve + energy + energy gradient + adjoint propagation
+//   BM_CostGradNoPenalty/N the mid-end cost + gradient with energy and time only (per piece)
+//   BM_CostGradFull/N      the mid-end cost + gradient with every penalty (kappa = 16)
+//   BM_SolveForest/budget  full mid-end solve of the forest path with that budget (ms; 0 = 10 s)
+
+#include <benchmark/benchmark.h>
+
+#include "porter/midend/midend.hpp"
+#include "porter/midend/midend_problem.hpp"
+#include "porter/midend/reference_path.hpp"
+#include "porter/minco/minco_s3.hpp"
+#include "synthetic_paths.hpp"
+
+namespace {
+
+using namespace porter;
+using namespace porter::midend;
+
+void BM_MincoCore(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  using M = minco::MincoS3<8>;
+  M m;
+  M::BoundaryState head = M::BoundaryState::Zero(), tail = M::BoundaryState::Zero();
+  tail.col(0).setConstant(0.4 * n);
+  M::Waypoints q(8, n - 1);
+  for (int i = 0; i < n - 1; ++i) q.col(i).setConstant(0.4 * (i + 1));
+  Eigen::VectorXd t = Eigen::VectorXd::Constant(n, 0.5);
+  M::Vector w = M::Vector::Ones();
+  M::Coefficients gc(6 * n, 8);
+  Eigen::VectorXd gt(n), gt_total(n);
+  M::Waypoints gq;
+  M::BoundaryState gh, gtl;
+  for (auto _ : state) {
+    t[0] += 1e-12;
+    m.generate(head, tail, q, t);
+    gc.setZero();
+    gt.setZero();
+    benchmark::DoNotOptimize(m.energy(w));
+    m.add_energy_gradient(w, gc, gt);
+    m.propagate_gradient(gc, gt, gq, gt_total, gh, gtl);
+    benchmark::DoNotOptimize(gt_total.data());
+  }
+  state.counters["time_per_piece"] =
+      benchmark::Counter(static_cast<double>(n) * state.iterations(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+BENCHMARK(BM_MincoCore)->Arg(10)->Arg(30)->Arg(100);
+
+void cost_grad(benchmark::State& state, std::uint32_t terms) {
+  const int n = static_cast<int>(state.range(0));
+  const MidendSettings settings;
+  const MidendLimits limits = MidendLimits::from_robot(testing::scout_mini_piper_model());
+  const ReferenceBuild ref = build_reference_path(testing::straight_line(n), limits, settings);
+  MidendProblem problem(ref.path, limits, settings);
+  problem.set_terms(terms);
+  Eigen::VectorXd x = problem.initial_guess();
+  Eigen::VectorXd g(problem.num_variables());
+  for (auto _ : state) {
+    x[0] += 1e-12;
+    benchmark::DoNotOptimize(problem.evaluate(x, &g, nullptr));
+    benchmark::DoNotOptimize(g.data());
+  }
+  state.counters["pieces"] = problem.num_pieces();
+  state.counters["time_per_piece"] =
+      benchmark::Counter(static_cast<double>(problem.num_pieces()) * state.iterations(),
+                         benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
+}
+
+void BM_CostGradNoPenalty(benchmark::State& state) { cost_grad(state, kTermEnergy | kTermTime); }
+BENCHMARK(BM_CostGradNoPenalty)->Arg(10)->Arg(30)->Arg(100);
+
+void BM_CostGradFull(benchmark::State& state) { cost_grad(state, kTermAll); }
+BENCHMARK(BM_CostGradFull)->Arg(10)->Arg(30)->Arg(100);
+
+void BM_SolveForest(benchmark::State& state) {
+  const double budget_s = state.range(0) > 0 ? 1e-3 * state.range(0) : 10.0;
+  const MidEnd midend(testing::scout_mini_piper_model());
+  const planner::WholeBodyPath path = testing::forest_slalom(50);
+  MidendResult r;
+  for (auto _ : state) {
+    r = midend.solve(path, budget_s);
+    benchmark::DoNotOptimize(r.final_cost.total());
+  }
+  state.counters["iterations"] = r.iterations;
+  state.counters["evaluations"] = r.evaluations;
+  state.counters["pieces"] = r.num_pieces;
+  state.counters["T_total_s"] = r.ok() ? r.trajectory->total_duration_s() : -1.0;
+  state.counters["penalty"] = r.final_cost.penalties();
+  state.counters["converged"] = r.status == MidendStatus::kConverged ||
+                                r.status == MidendStatus::kConvergedWithWarning;
+  state.SetLabel(to_string(r.status));
+}
+BENCHMARK(BM_SolveForest)->Arg(30)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
+
+}  // namespace
+
+BENCHMARK_MAIN();

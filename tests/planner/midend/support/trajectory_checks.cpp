@@ -1,0 +1,178 @@
+#include "trajectory_checks.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "porter/midend/diff_drive.hpp"
+#include "porter/midend/reference_path.hpp"
+
+namespace porter::midend::testing {
+namespace {
+
+TrajVector node_vector(const RobotConfiguration& c) {
+  TrajVector z;
+  z << c.base.x_m, c.base.y_m, c.q_rad;
+  return z;
+}
+
+// Base rates near a rest instant t0 (v = a = 0 there), evaluated stably: p_xy'(t0 + h) = h^2 U(h)
+// with U(h) = j/2 + s h/6 + c h^2/24 (j, s, c = derivatives 3..5 at t0). Evaluating v directly
+// loses all precision there (v is a sum of O(1) terms that cancel to O(h^2)).
+struct RestRates {
+  double yaw_rad, yaw_rate, yaw_accel, speed, accel;
+};
+RestRates rest_rates(const PieceCoeffs& c, double t0, double h, int eta) {
+  const Eigen::Vector2d j = piece_derivative(c, t0, 3).head<2>();
+  const Eigen::Vector2d s = piece_derivative(c, t0, 4).head<2>();
+  const Eigen::Vector2d k = piece_derivative(c, t0, 5).head<2>();
+  const Eigen::Vector2d u = j / 2.0 + s * h / 6.0 + k * h * h / 24.0;
+  const Eigen::Vector2d u1 = s / 6.0 + k * h / 12.0;
+  const Eigen::Vector2d u2 = k / 12.0;
+  const double n2 = u.squaredNorm();
+  RestRates r;
+  r.yaw_rad = std::atan2(eta * u.y(), eta * u.x());
+  r.yaw_rate = cross2(u, u1) / n2;
+  r.yaw_accel = cross2(u, u2) / n2 - 2.0 * cross2(u, u1) * u.dot(u1) / (n2 * n2);
+  r.speed = h * h * std::sqrt(n2);
+  r.accel = 2.0 * h * std::sqrt(n2) + h * h * u.dot(u1) / std::sqrt(n2);
+  return r;
+}
+
+}  // namespace
+
+CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPath& path,
+                             const MidendLimits& limits, const MidendSettings& settings,
+                             double dt_s) {
+  CheckReport r;
+  const ReferenceBuild ref = build_reference_path(path, limits, settings);
+  std::vector<std::pair<RobotConfiguration, RobotConfiguration>> edges;
+  for (const auto& seg : ref.path.segments) {
+    for (std::size_t i = 0; i + 1 < seg.nodes.size(); ++i) edges.emplace_back(seg.nodes[i], seg.nodes[i + 1]);
+  }
+  const bool have_edges = static_cast<int>(edges.size()) == traj.num_pieces();
+  const int n = traj.num_pieces();
+  const double total = traj.total_duration_s();
+
+  // Boundaries.
+  if (have_edges) {
+    const TrajVector z0 = node_vector(edges.front().first);
+    const TrajVector z1 = node_vector(edges.back().second);
+    r.boundary_error = std::max({(traj.position(0.0) - z0).cwiseAbs().maxCoeff(),
+                                 traj.velocity(0.0).cwiseAbs().maxCoeff(),
+                                 traj.acceleration(0.0).cwiseAbs().maxCoeff(),
+                                 (traj.position(total) - z1).cwiseAbs().maxCoeff(),
+                                 traj.velocity(total).cwiseAbs().maxCoeff(),
+                                 traj.acceleration(total).cwiseAbs().maxCoeff()});
+    r.start_heading_error_rad =
+        std::abs(angle_difference(traj.yaw_rad(0.0), edges.front().first.base.yaw_rad));
+    r.goal_heading_error_rad =
+        std::abs(angle_difference(traj.yaw_rad(total), edges.back().second.base.yaw_rad));
+  }
+
+  // Knots.
+  for (int i = 0; i + 1 < n; ++i) {
+    const TrajectoryPiece& a = traj.piece(i);
+    const TrajectoryPiece& b = traj.piece(i + 1);
+    if (a.eta == b.eta) {
+      for (int k = 0; k <= 4; ++k) {
+        const TrajVector l = piece_derivative(a.coeffs, a.duration_s, k);
+        const TrajVector rr = piece_derivative(b.coeffs, 0.0, k);
+        r.continuity_error = std::max(r.continuity_error,
+                                      (l - rr).cwiseAbs().maxCoeff() / std::max(1.0, l.cwiseAbs().maxCoeff()));
+      }
+    } else {
+      ++r.gear_switches;
+      const TrajVector pl = piece_derivative(a.coeffs, a.duration_s, 0);
+      const TrajVector pr = piece_derivative(b.coeffs, 0.0, 0);
+      const TrajVector vl = piece_derivative(a.coeffs, a.duration_s, 1);
+      const TrajVector vr = piece_derivative(b.coeffs, 0.0, 1);
+      const TrajVector al = piece_derivative(a.coeffs, a.duration_s, 2);
+      const TrajVector ar = piece_derivative(b.coeffs, 0.0, 2);
+      double e = (pl - pr).cwiseAbs().maxCoeff();
+      e = std::max(e, (vl.tail<6>() - vr.tail<6>()).cwiseAbs().maxCoeff());
+      e = std::max(e, (al.tail<6>() - ar.tail<6>()).cwiseAbs().maxCoeff());
+      // Base: speed v_ns on both sides, opposite directions, zero acceleration.
+      e = std::max(e, std::abs(vl.head<2>().norm() - limits.nonsingular_speed_mps));
+      e = std::max(e, std::abs(vr.head<2>().norm() - limits.nonsingular_speed_mps));
+      e = std::max(e, (vl.head<2>() + vr.head<2>()).norm());
+      e = std::max({e, al.head<2>().norm(), ar.head<2>().norm()});
+      r.gear_error = std::max(r.gear_error, e);
+      const double tg = traj.piece_start_time_s(i + 1);
+      r.max_gear_yaw_jump_rad = std::max(
+          r.max_gear_yaw_jump_rad, std::abs(angle_difference(traj.yaw_rad(tg + 1e-6), traj.yaw_rad(tg - 1e-6))));
+    }
+  }
+
+  // Dense samples.
+  const int steps = static_cast<int>(std::ceil(total / dt_s));
+  double prev_yaw = traj.yaw_rad(0.0);
+  const double rho_b2 = settings.residual_base_bound_m * settings.residual_base_bound_m;
+  for (int s = 0; s <= steps; ++s) {
+    const double t = std::min(s * dt_s, total);
+    TrajectoryState st = traj.sample(t, limits.track_width_m, limits.wheel_radius_m);
+    {
+      // Within the first / last piece and slower than 1 cm/s: use the stable rest expansion.
+      double tau = 0.0;
+      const int i = traj.locate(t, &tau);
+      const TrajectoryPiece& pc = traj.piece(i);
+      const bool near_start = i == 0 && st.z_dot.head<2>().norm() < 1e-2 && tau < 0.5 * pc.duration_s;
+      const bool near_end = i == n - 1 && st.z_dot.head<2>().norm() < 1e-2 && tau > 0.5 * pc.duration_s;
+      if ((near_start || near_end) && piece_derivative(pc.coeffs, near_start ? 0.0 : pc.duration_s, 3).head<2>().norm() > 1e-6) {
+        const double t0 = near_start ? 0.0 : pc.duration_s;
+        const RestRates rr = rest_rates(pc.coeffs, t0, tau - t0, pc.eta);
+        st.base.yaw_rad = rr.yaw_rad;
+        const double half = 0.5 * limits.track_width_m;
+        st.wheels.left_radps = (pc.eta * rr.speed - half * rr.yaw_rate) / limits.wheel_radius_m;
+        st.wheels.right_radps = (pc.eta * rr.speed + half * rr.yaw_rate) / limits.wheel_radius_m;
+        st.wheels.left_radps2 = (pc.eta * rr.accel - half * rr.yaw_accel) / limits.wheel_radius_m;
+        st.wheels.right_radps2 = (pc.eta * rr.accel + half * rr.yaw_accel) / limits.wheel_radius_m;
+      }
+    }
+    ++r.samples;
+    if (!st.z.allFinite() || !st.z_dot.allFinite() || !st.z_ddot.allFinite() ||
+        !std::isfinite(st.base.yaw_rad) || !std::isfinite(st.wheels.left_radps) ||
+        !std::isfinite(st.wheels.right_radps) || !std::isfinite(st.wheels.left_radps2) ||
+        !std::isfinite(st.wheels.right_radps2)) {
+      r.finite = false;
+      continue;
+    }
+    r.max_yaw_step_rad = std::max(r.max_yaw_step_rad, std::abs(angle_difference(st.base.yaw_rad, prev_yaw)));
+    prev_yaw = st.base.yaw_rad;
+    r.wheel_velocity_ratio = std::max({r.wheel_velocity_ratio, std::abs(st.wheels.left_radps) / limits.wheel_omega_max_radps,
+                                       std::abs(st.wheels.right_radps) / limits.wheel_omega_max_radps});
+    r.wheel_acceleration_ratio =
+        std::max({r.wheel_acceleration_ratio, std::abs(st.wheels.left_radps2) / limits.wheel_alpha_max_radps2,
+                  std::abs(st.wheels.right_radps2) / limits.wheel_alpha_max_radps2});
+    for (int j = 0; j < kNumArmJoints; ++j) {
+      const double q = st.z[2 + j];
+      const double range = limits.joint_upper_rad[j] - limits.joint_lower_rad[j];
+      const double excess = std::max({0.0, q - limits.joint_upper_rad[j], limits.joint_lower_rad[j] - q});
+      r.joint_position_excess = std::max(r.joint_position_excess, excess / range);
+      r.joint_velocity_ratio = std::max(r.joint_velocity_ratio, std::abs(st.z_dot[2 + j]) / limits.joint_velocity_max_radps[j]);
+      r.joint_acceleration_ratio =
+          std::max(r.joint_acceleration_ratio, std::abs(st.z_ddot[2 + j]) / limits.joint_acceleration_max_radps2[j]);
+    }
+    if (have_edges) {
+      double tau = 0.0;
+      const int i = traj.locate(t, &tau);
+      const double frac = tau / traj.piece(i).duration_s;
+      // Nearest in time; at the exact midpoint either node is nearest: take the better one.
+      std::vector<const RobotConfiguration*> nodes;
+      if (frac <= 0.5 + 1e-9) nodes.push_back(&edges[i].first);
+      if (frac >= 0.5 - 1e-9) nodes.push_back(&edges[i].second);
+      double best_b = 1e300, best_m = 1e300;
+      for (const RobotConfiguration* node : nodes) {
+        const double dx = st.z[0] - node->base.x_m, dy = st.z[1] - node->base.y_m;
+        const double dyaw = angle_difference(st.base.yaw_rad, node->base.yaw_rad);
+        const double eb = dx * dx + dy * dy + settings.residual_yaw_weight_m2 * dyaw * dyaw;
+        best_b = std::min(best_b, eb);
+        best_m = std::min(best_m, (st.z.tail<6>() - node->q_rad).squaredNorm());
+      }
+      r.residual_base_ratio = std::max(r.residual_base_ratio, std::sqrt(best_b / rho_b2));
+      r.residual_arm_ratio = std::max(r.residual_arm_ratio, std::sqrt(best_m) / settings.residual_arm_bound_rad);
+    }
+  }
+  return r;
+}
+
+}  // namespace porter::midend::testing

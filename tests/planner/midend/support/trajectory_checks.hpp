@@ -1,0 +1,43 @@
+#pragma once
+// Independent checks of a mid-end trajectory, sampled densely through porter::Trajectory (core's
+// evaluation, heading rule and wheel rates — not the mid-end's own formulas). Exception: within
+// the first/last piece below 1 cm/s (next to the rest boundaries) the base rates are evaluated
+// from the re-expansion p_xy' = (t - t0)^2 U(t), because direct evaluation of the quotients
+// loses all precision there (observed: alpha_b off by 1e3 at 0.1 ms from rest in double).
+
+#include "porter/core/trajectory.hpp"
+#include "porter/midend/midend_limits.hpp"
+#include "porter/midend/midend_settings.hpp"
+#include "porter/planner/whole_body_path.hpp"
+
+namespace porter::midend::testing {
+
+struct CheckReport {
+  bool finite = true;
+  double boundary_error = 0.0;       ///< max |z - node|, |z_dot|, |z_ddot| at start and goal
+  double continuity_error = 0.0;     ///< max jump of derivatives 0..4 at same-direction knots
+  double gear_error = 0.0;           ///< at gear switches: position / arm rate jumps and
+                                     ///< |base velocity - eta v_ns heading|, |base acceleration|
+  int gear_switches = 0;
+  double max_gear_yaw_jump_rad = 0.0;  ///< |yaw(t_g + 1e-6) - yaw(t_g - 1e-6)|
+  double max_yaw_step_rad = 0.0;       ///< max |yaw(t + dt) - yaw(t)| over the samples
+  double wheel_velocity_ratio = 0.0;   ///< max |omega_{l,r}| / omega_max
+  double wheel_acceleration_ratio = 0.0;
+  double joint_velocity_ratio = 0.0;
+  double joint_acceleration_ratio = 0.0;
+  double joint_position_excess = 0.0;  ///< max violation of [lower, upper] / (upper - lower)
+  double residual_base_ratio = 0.0;    ///< max sqrt(e_b + rho_b^2) / rho_b (<= 1 is inside)
+  double residual_arm_ratio = 0.0;
+  double start_heading_error_rad = 0.0;  ///< |yaw(0+) - start node yaw|
+  double goal_heading_error_rad = 0.0;
+  int samples = 0;
+};
+
+/// Samples every dt_s. The reference nodes are rebuilt from `path` with `settings` so that the
+/// pose residuals use the same nearest-in-time node as the mid-end (the trajectory must have
+/// one piece per reference edge).
+CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPath& path,
+                             const MidendLimits& limits, const MidendSettings& settings,
+                             double dt_s = 1e-3);
+
+}  // namespace porter::midend::testing
