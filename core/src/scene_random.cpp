@@ -1,0 +1,44 @@
+#include "porter/core/scene_random.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "porter/core/scene.hpp"
+
+namespace porter {
+
+ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<CollisionShape>& existing_W,
+                                const std::vector<Eigen::Vector2d>& keep_clear_xy_W, PortableRandom& rng) {
+  ColumnFieldResult result;
+  result.columns.reserve(static_cast<std::size_t>(std::max(0, spec.count)));
+  for (int k = 0; k < spec.count; ++k) {
+    bool placed = false;
+    for (int attempt = 0; attempt < spec.max_attempts && !placed; ++attempt) {
+      const double r = rng.uniform(spec.radius_min_m, spec.radius_max_m);
+      const double x = rng.uniform(spec.region_min_W.x() + r, spec.region_max_W.x() - r);
+      const double y = rng.uniform(spec.region_min_W.y() + r, spec.region_max_W.y() - r);
+      if (spec.region_max_W.x() - spec.region_min_W.x() < 2.0 * r ||
+          spec.region_max_W.y() - spec.region_min_W.y() < 2.0 * r)
+        continue;  // the disc does not fit in the region at this radius
+      const Eigen::Vector2d c(x, y);
+      const double need = r + spec.min_clearance_m;
+      bool ok = true;
+      for (const auto& p : keep_clear_xy_W) ok = ok && (p - c).norm() >= need;
+      for (std::size_t i = 0; ok && i < existing_W.size(); ++i) ok = footprint_distance(existing_W[i], c) >= need;
+      for (std::size_t i = 0; ok && i < result.columns.size(); ++i)
+        ok = footprint_distance(result.columns[i], c) >= need;
+      if (!ok) continue;
+      CollisionShape col;
+      col.geometry = Cylinder{r, spec.height_m};
+      col.T_parent_shape.translation() = Eigen::Vector3d(x, y, 0.5 * spec.height_m);
+      col.name = spec.name_prefix + "[" + std::to_string(k) + "]";
+      result.columns.push_back(std::move(col));
+      placed = true;
+    }
+    if (!placed) return result;
+  }
+  result.complete = true;
+  return result;
+}
+
+}  // namespace porter
