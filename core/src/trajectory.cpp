@@ -200,6 +200,51 @@ BaseMotion Trajectory::base_motion(double t_s) const {
   return base_motion_at(i, tau, at_end);
 }
 
+namespace {
+
+// Base rates from the factorization pd(t0 + h) = h^(k-1) W(h) around a rest instant t0 of the
+// piece (d[r] = p_xy^(r)(t0), k >= 2 the order of the first derivative that does not vanish
+// there, h != 0). W(h) = sum_{m=k-1..4} d[m+1] h^(m-k+1) / m! is evaluated term by term. The
+// terms below order k are dropped: they are the rounding residuals of pd, pdd at t0 (~1e-15),
+// which divided by h^(k-1) would swamp the rates a few microseconds from rest (alpha_b grows like
+// residual / h^4); the rest is taken as exact. Then
+//   omega = (W x W') / |W|^2,  alpha = (W x W'') / |W|^2 - 2 (W x W')(W . W') / |W|^4,
+//   v_b = |h|^(k-1) |W|,       a_b = d v_b / dt,        direction of motion sgn(h)^(k-1) W.
+// Unlike the same quotients in pd, pdd, pddd, these contain no terms of order 1/h that cancel.
+struct Expansion {
+  Eigen::Vector2d dir;
+  double speed, accel, omega, alpha;
+};
+
+Expansion rest_expansion(const Eigen::Vector2d* d, int k, double h) {
+  Eigen::Vector2d w = Eigen::Vector2d::Zero(), w1 = Eigen::Vector2d::Zero(),
+                  w2 = Eigen::Vector2d::Zero();
+  for (int m = k - 1; m <= kTrajDegree - 1; ++m) {
+    const int e = m - (k - 1);  // power of h in W, >= 0
+    const Eigen::Vector2d c = d[m + 1] / factorial(m);
+    if (c.isZero(0.0)) continue;
+    const double pe = std::pow(h, e);
+    w += c * pe;
+    if (e != 0) w1 += c * (e * pe / h);
+    if (e != 0 && e != 1) w2 += c * (e * (e - 1) * pe / (h * h));
+  }
+  Expansion x;
+  const double n2 = w.squaredNorm();
+  const double n = std::sqrt(n2);
+  const double c1 = cross2(w, w1), dot1 = w.dot(w1);
+  const double hk = std::pow(std::abs(h), k - 1);
+  const double sign = (k % 2 == 0 && h < 0.0) ? -1.0 : 1.0;  // sgn(h)^(k-1)
+  x.dir = sign * w / n;
+  x.speed = hk * n;
+  // d/dh (|h|^(k-1) |W|) = (k-1) |h|^(k-2) sgn(h) |W| + |h|^(k-1) (W . W') / |W|
+  x.accel = (k - 1) * std::pow(std::abs(h), k - 2) * (h < 0.0 ? -1.0 : 1.0) * n + hk * dot1 / n;
+  x.omega = c1 / n2;
+  x.alpha = cross2(w, w2) / n2 - 2.0 * c1 * dot1 / (n2 * n2);
+  return x;
+}
+
+}  // namespace
+
 BaseMotion Trajectory::base_motion_at(int piece, double tau_s, bool at_end) const {
   const TrajectoryPiece& p = pieces_[static_cast<size_t>(piece)];
   Eigen::Vector2d d[kMaxXyOrder + 1];
@@ -210,6 +255,34 @@ BaseMotion Trajectory::base_motion_at(int piece, double tau_s, bool at_end) cons
   const Eigen::Vector2d& v = d[1];
   m.speed_mps = v.norm();
   m.signed_speed_mps = p.eta * m.speed_mps;
+
+  if (m.speed_mps < kSlowSpeed_mps) {
+    // Next to a rest instant at the nearer end t0 of the piece: expand around it (see
+    // rest_expansion). At t0 itself the limit rule below applies.
+    const double t0 = tau_s <= 0.5 * p.duration_s ? 0.0 : p.duration_s;
+    const double h = tau_s - t0;
+    Eigen::Vector2d e[kMaxXyOrder + 1];
+    for (int r = 0; r <= kMaxXyOrder; ++r) e[r] = xy_derivative(p.coeffs, t0, r);
+    int k = 0;
+    for (int r = 2; r <= kTrajDegree && h != 0.0 && e[1].norm() < kRestSpeed_mps; ++r) {
+      if (e[r].norm() >= kVanishing) {
+        k = r;
+        break;
+      }
+    }
+    if (k != 0) {
+      const Expansion x = rest_expansion(e, k, h);
+      if (std::isfinite(x.alpha) && std::isfinite(x.dir.x()) && std::isfinite(x.dir.y())) {
+        m.yaw_rad = wrap_pi(std::atan2(p.eta * x.dir.y(), p.eta * x.dir.x()));
+        m.speed_mps = x.speed;
+        m.signed_speed_mps = p.eta * x.speed;
+        m.accel_mps2 = x.accel;
+        m.yaw_rate_radps = x.omega;
+        m.yaw_accel_radps2 = x.alpha;
+        return m;
+      }
+    }
+  }
 
   // u: unit direction of motion; V0..V2: the series of pd / (t - t0)^(k-1) (see the header).
   Eigen::Vector2d u, V0, V1, V2;

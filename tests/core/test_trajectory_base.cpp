@@ -259,6 +259,101 @@ TEST(TrajectoryBaseRates, RestLimitsAreContinuous) {
   EXPECT_NEAR(start.base_motion(1e-3).yaw_rate_radps, 6.0 / (4.0 + 9e-6), 1e-12);
 }
 
+// Near a rest instant: q(s) = (a s^3 + e s^5, c s^3 + b s^4) has dq/ds = s^2 W(s) with
+// W = (3a + 5e s^2, 3c + 4b s), so the exact rates are closed forms in W, W' = (10 e s, 4 b),
+// W'' = (10 e, 0): omega = (W x W')/|W|^2, alpha = (W x W'')/|W|^2 - 2 (W x W')(W . W')/|W|^4,
+// v = s^2 |W|, dv/ds = 2 s |W| + s^2 (W . W')/|W|. Evaluated in long double as the reference.
+struct RestReference {
+  long double yaw, speed, dspeed, omega, alpha;
+};
+constexpr long double kA = 0.6L, kB = -0.9L, kC = 0.2L, kE = 0.35L;
+RestReference rest_reference(long double s) {
+  const long double wx = 3 * kA + 5 * kE * s * s, wy = 3 * kC + 4 * kB * s;
+  const long double w1x = 10 * kE * s, w1y = 4 * kB;
+  const long double w2x = 10 * kE, w2y = 0;
+  const long double n2 = wx * wx + wy * wy, n = std::sqrt(n2);
+  const long double c1 = wx * w1y - wy * w1x, d1 = wx * w1x + wy * w1y;
+  RestReference r;
+  r.yaw = std::atan2(wy, wx);
+  r.speed = s * s * n;
+  r.dspeed = 2 * s * n + s * s * d1 / n;
+  r.omega = c1 / n2;
+  r.alpha = (wx * w2y - wy * w2x) / n2 - 2 * c1 * d1 / (n2 * n2);
+  return r;
+}
+
+void expect_rel(double value, long double reference, double tol, const char* what, double h) {
+  EXPECT_LE(std::abs(value - static_cast<double>(reference)),
+            tol * std::max(1e-300L, std::abs(reference)))
+      << what << " at " << h << " s from rest: " << value << " vs " << static_cast<double>(reference);
+}
+
+TEST(TrajectoryNearRest, StartMatchesHighPrecisionReference) {
+  // p(t) = q(t): the rest instant is t = 0 and the coefficients are exact.
+  const Trajectory traj = make({xy_piece(1.0, 1, {{0, 0}, {0, 0}, {0, 0}, {0.6, 0.2}, {0, -0.9}, {0.35, 0}})});
+  for (const double h : {1e-3, 1e-4, 1e-5, 1e-6}) {
+    const BaseMotion m = traj.base_motion(h);
+    const RestReference r = rest_reference(h);
+    EXPECT_NEAR(angle_diff(m.yaw_rad, static_cast<double>(r.yaw)), 0.0, 1e-12) << h;
+    expect_rel(m.speed_mps, r.speed, 1e-12, "speed", h);
+    expect_rel(m.accel_mps2, r.dspeed, 1e-12, "a_b", h);
+    expect_rel(m.yaw_rate_radps, r.omega, 1e-12, "omega_b", h);
+    expect_rel(m.yaw_accel_radps2, r.alpha, 1e-12, "alpha_b", h);
+  }
+}
+
+TEST(TrajectoryNearRest, GoalMatchesHighPrecisionReference) {
+  // p(tau) = q(T - tau) expanded in tau in double: the rest instant is the end of the piece and
+  // pd, pdd there are rounding residuals, as in a real mid-end trajectory.
+  const double T = 1.3;
+  const double qx[6] = {0, 0, 0, 0.6, 0, 0.35}, qy[6] = {0, 0, 0, 0.2, -0.9, 0};
+  std::vector<std::pair<double, double>> rows(6, {0.0, 0.0});
+  for (int n = 0; n < 6; ++n) {      // q_n (T - tau)^n = q_n sum_k C(n, k) T^(n-k) (-tau)^k
+    double binom = 1.0;
+    for (int k = 0; k <= n; ++k) {
+      const double f = binom * std::pow(T, n - k) * ((k % 2) ? -1.0 : 1.0);
+      rows[static_cast<size_t>(k)].first += qx[n] * f;
+      rows[static_cast<size_t>(k)].second += qy[n] * f;
+      binom = binom * (n - k) / (k + 1);
+    }
+  }
+  for (const int eta : {1, -1}) {
+    const Trajectory traj = make({xy_piece(T, eta, rows)});
+    EXPECT_LT(traj.velocity(T).head<2>().norm(), kRestSpeed_mps);
+    for (const double h : {1e-3, 1e-4, 1e-5}) {
+      const BaseMotion m = traj.base_motion(T - h);
+      const RestReference r = rest_reference(h);
+      // dp/dtau = -dq/ds: heading flipped, omega negated, alpha kept, speed decreasing.
+      const double yaw = static_cast<double>(r.yaw) + kPi + (eta < 0 ? kPi : 0.0);
+      EXPECT_NEAR(angle_diff(m.yaw_rad, yaw), 0.0, 1e-9) << h;
+      expect_rel(m.speed_mps, r.speed, 1e-9, "speed", h);
+      expect_rel(m.accel_mps2, -r.dspeed, 1e-9, "a_b", h);
+      expect_rel(m.yaw_rate_radps, -r.omega, 1e-9, "omega_b", h);
+      expect_rel(m.yaw_accel_radps2, r.alpha, 1e-9, "alpha_b", h);
+      // The wheels see the same rates.
+      const WheelRates w = traj.wheel_rates(T - h, 0.4, 0.1);
+      EXPECT_NEAR(w.right_radps2 - w.left_radps2, 0.4 * m.yaw_accel_radps2 / 0.1, 1e-9);
+    }
+  }
+}
+
+TEST(TrajectoryNearRest, SwitchToTheExpansionIsContinuous) {
+  // Just below and just above kSlowSpeed_mps the two evaluations agree with the reference.
+  const Trajectory traj = make({xy_piece(1.0, 1, {{0, 0}, {0, 0}, {0, 0}, {0.6, 0.2}, {0, -0.9}, {0.35, 0}})});
+  double lo = 1e-4, hi = 0.5;  // bisect for the time at which the speed crosses kSlowSpeed_mps
+  for (int i = 0; i < 60; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (traj.velocity(mid).head<2>().norm() < kSlowSpeed_mps ? lo : hi) = mid;
+  }
+  for (const double t : {lo - 1e-9, hi + 1e-9}) {
+    const BaseMotion m = traj.base_motion(t);
+    const RestReference r = rest_reference(t);
+    expect_rel(m.yaw_rate_radps, r.omega, 1e-10, "omega_b", t);
+    expect_rel(m.yaw_accel_radps2, r.alpha, 1e-9, "alpha_b", t);
+    expect_rel(m.accel_mps2, r.dspeed, 1e-10, "a_b", t);
+  }
+}
+
 TEST(TrajectoryWheels, MatchDiffDriveKinematics) {
   const Trajectory traj = curvy();
   const double d_w = 0.45, r_w = 0.08;

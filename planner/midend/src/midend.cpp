@@ -21,6 +21,9 @@ double seconds_since(Clock::time_point t0) {
 
 struct SolveContext {
   MidendProblem* problem = nullptr;
+  double scale = 1.0;          ///< x = scale * y, y being liblbfgs' variables
+  Eigen::VectorXd x;           ///< workspace: the unscaled point
+
   Clock::time_point start;
   double budget_s = 0.0;
   int iterations = 0;
@@ -28,11 +31,14 @@ struct SolveContext {
   bool budget_hit = false;
 };
 
-lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* x, lbfgsfloatval_t* g,
-                            const int /*n*/, const lbfgsfloatval_t /*step*/) {
+lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloatval_t* g,
+                            const int n, const lbfgsfloatval_t /*step*/) {
   auto* ctx = static_cast<SolveContext*>(instance);
   ++ctx->evaluations;
-  return ctx->problem->evaluate(x, g, nullptr);
+  ctx->x = ctx->scale * Eigen::Map<const Eigen::VectorXd>(y, n);
+  const double f = ctx->problem->evaluate(ctx->x.data(), g, nullptr);
+  Eigen::Map<Eigen::VectorXd>(g, n) *= ctx->scale;
+  return f;
 }
 
 int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatval_t* /*g*/,
@@ -110,6 +116,7 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   if (!pos(s.relative_cost_tolerance) || s.relative_cost_past < 1) return fail("relative cost test needs tolerance > 0 and past >= 1");
   if (s.memory_size < 3 || s.memory_size > 64) return fail("memory_size not in [3, 64]");
   if (s.max_line_search < 1) return fail("max_line_search must be >= 1");
+  if (!pos(s.variable_scale)) return fail("variable_scale must be > 0");
   if (s.max_restarts < 0 || !nonneg(s.restart_min_decrease)) return fail("max_restarts and restart_min_decrease must be >= 0");
   if (!pos(s.default_time_budget_s)) return fail("default_time_budget_s must be > 0");
   return true;
@@ -182,7 +189,8 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
     finish(r, validator, start);
     return r;
   }
-  std::copy(x0.data(), x0.data() + n, x.data);
+  const double scale = settings_.variable_scale;
+  Eigen::Map<Eigen::VectorXd>(x.data, n) = x0 / scale;
 
   lbfgs_parameter_t param;
   lbfgs_parameter_init(&param);
@@ -196,6 +204,8 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
 
   SolveContext ctx;
   ctx.problem = &problem;
+  ctx.scale = scale;
+  ctx.x.resize(n);
   ctx.start = start;
   ctx.budget_s = budget_s;
   const auto t_opt = Clock::now();
@@ -213,7 +223,8 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
     const bool stopped_early = code == LBFGS_SUCCESS || code == LBFGS_STOP ||
                                code == LBFGS_ALREADY_MINIMIZED || lbfgs_code_is_stall(code);
     if (!stopped_early || run >= settings_.max_restarts || r.iterations >= settings_.max_iterations) break;
-    const double f_run_end = problem.evaluate(x.data, nullptr, nullptr);
+    ctx.x = scale * Eigen::Map<const Eigen::VectorXd>(x.data, n);
+    const double f_run_end = problem.evaluate(ctx.x.data(), nullptr, nullptr);
     ++ctx.evaluations;
     if (!std::isfinite(f_run_end) ||
         f_run_start - f_run_end <= settings_.restart_min_decrease * std::abs(f_run_end)) {
@@ -225,7 +236,8 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
   r.lbfgs_code = code;
   r.evaluations = ctx.evaluations;
 
-  const double f1 = problem.evaluate(x.data, nullptr, &r.final_cost);
+  const Eigen::VectorXd x1 = scale * Eigen::Map<const Eigen::VectorXd>(x.data, n);
+  const double f1 = problem.evaluate(x1.data(), nullptr, &r.final_cost);
   const std::string detail = std::string("lbfgs: ") + lbfgs_code_to_string(code);
   if (!std::isfinite(f1)) {
     r.status = MidendStatus::kNumericalFailure;
@@ -244,7 +256,7 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
   if (r.message.empty()) r.message = detail;
 
   if (has_trajectory(r.status)) {
-    TrajectoryResult tr = Trajectory::create(problem.pieces(x.data), problem.start_yaw_rad());
+    TrajectoryResult tr = Trajectory::create(problem.pieces(x1.data()), problem.start_yaw_rad());
     if (tr.ok()) {
       r.trajectory = std::move(tr.trajectory);
     } else {

@@ -5,6 +5,7 @@
 
 #include "porter/minco/time_map.hpp"
 #include "porter/midend/diff_drive.hpp"
+#include "piece_sampler.hpp"
 #include "sample_penalty.hpp"
 
 namespace porter::midend {
@@ -30,6 +31,7 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
   penalty_.mu = settings_.penalty_smoothing;
   energy_weights_.setConstant(settings_.energy_weight_joint);
   energy_weights_.head<2>().setConstant(settings_.energy_weight_base);
+  set_terms(kTermAll);
 
   const int num_segments = static_cast<int>(reference_.segments.size());
   int offset = 0;
@@ -65,6 +67,15 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
   }
   time_scale_index_ = offset++;  // global log time scale (conditioning; see header)
   num_variables_ = offset;
+
+  node_dir_.resize(num_segments);
+  for (int s = 0; s < num_segments; ++s) {
+    for (const RobotConfiguration& n : reference_.segments[s].nodes) {
+      node_dir_[s].push_back({std::cos(n.base.yaw_rad), std::sin(n.base.yaw_rad)});
+    }
+  }
+  extra_grad_.coeffs.resize(reference_.num_pieces());
+  extra_grad_.durations_s.resize(reference_.num_pieces());
 
   minco_.resize(num_segments);
   durations_.resize(num_segments);
@@ -149,8 +160,32 @@ bool MidendProblem::build_segment(int s, const double* x) {
   return minco_[s].generate(head, tail, waypoints_[s], durations_[s]);
 }
 
+void MidendProblem::set_terms(std::uint32_t mask) {
+  terms_ = mask;
+  sampler_ = std::make_shared<const detail::SamplerConstants>(limits_, settings_, mask);
+}
+
 double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
   const ReferenceSegment& seg = reference_.segments[s];
+  const double min_speed_mps = segment_layout_[s].min_speed[i]
+                                   ? settings_.min_speed_fraction * limits_.nonsingular_speed_mps
+                                   : 0.0;
+  if (!reference_sampling_) {
+    detail::PieceInputs in;
+    in.eta = seg.eta;
+    in.node_start = &seg.nodes[i];
+    in.node_end = &seg.nodes[i + 1];
+    in.start_dir[0] = node_dir_[s][i][0];
+    in.start_dir[1] = node_dir_[s][i][1];
+    in.end_dir[0] = node_dir_[s][i + 1][0];
+    in.end_dir[1] = node_dir_[s][i + 1][1];
+    in.min_speed_mps = min_speed_mps;
+    static_assert(Minco::kStorage == Eigen::RowMajor, "the fast sampler reads row-major blocks");
+    const int row = minco::kPieceCoeffs * i;
+    return detail::sample_piece(*sampler_, in, minco_[s].coefficients().row(row).data(),
+                                durations_[s][i], segment_layout_[s].kappa[i],
+                                grad_c_[s].row(row).data(), &grad_t_[s][i], breakdown);
+  }
   detail::SamplePenalty integrand;
   integrand.limits = &limits_;
   integrand.settings = &settings_;
@@ -160,8 +195,7 @@ double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
   integrand.node_start = &seg.nodes[i];
   integrand.node_end = &seg.nodes[i + 1];
   integrand.duration_s = durations_[s][i];
-  integrand.min_speed_mps =
-      segment_layout_[s].min_speed[i] ? settings_.min_speed_fraction * limits_.nonsingular_speed_mps : 0.0;
+  integrand.min_speed_mps = min_speed_mps;
   integrand.breakdown = breakdown;
   return minco::integrate_piece_penalty<kTrajDim>(
       minco_[s].piece(i), durations_[s][i], segment_layout_[s].kappa[i], integrand,
@@ -303,6 +337,9 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
       if (s + 1 == num_segments) boundary_heading(s, false, &b);
     }
   }
+  if ((terms_ & kTermExtra) && extra_cost_) {
+    extra_cost(x, grad != nullptr, &b);
+  }
   const double cost = b.total();
   if (!std::isfinite(cost)) return fail();
   if (!grad) return cost;
@@ -336,6 +373,48 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
     if (!std::isfinite(grad[k])) return fail();
   }
   return cost;
+}
+
+double MidendProblem::extra_cost(const double* x, bool want_grad, CostBreakdown* breakdown) {
+  // The MINCO systems are built for x (evaluate() calls this after build_segment()).
+  std::vector<TrajectoryPiece> all;
+  all.reserve(static_cast<std::size_t>(num_pieces()));
+  const int num_segments = static_cast<int>(reference_.segments.size());
+  for (int s = 0; s < num_segments; ++s) {
+    for (int i = 0; i < segment_layout_[s].pieces; ++i) {
+      TrajectoryPiece p;
+      p.duration_s = durations_[s][i];
+      p.eta = reference_.segments[s].eta;
+      p.coeffs = minco_[s].piece(i);
+      all.push_back(p);
+    }
+  }
+  TrajectoryResult tr = Trajectory::create(std::move(all), start_yaw_rad());
+  if (!tr.ok()) {
+    breakdown->extra = std::numeric_limits<double>::infinity();
+    return breakdown->extra;
+  }
+  for (auto& c : extra_grad_.coeffs) c.setZero();
+  std::fill(extra_grad_.durations_s.begin(), extra_grad_.durations_s.end(), 0.0);
+  const double k = extra_cost_(*tr.trajectory, want_grad ? &extra_grad_ : nullptr);
+  breakdown->extra = std::isfinite(k) ? k : std::numeric_limits<double>::infinity();
+  if (!want_grad || !std::isfinite(k)) return breakdown->extra;
+  if (extra_grad_.coeffs.size() != static_cast<std::size_t>(num_pieces()) ||
+      extra_grad_.durations_s.size() != static_cast<std::size_t>(num_pieces())) {
+    extra_grad_.coeffs.resize(static_cast<std::size_t>(num_pieces()));  // the callee resized them
+    extra_grad_.durations_s.resize(static_cast<std::size_t>(num_pieces()));
+    breakdown->extra = std::numeric_limits<double>::infinity();
+    return breakdown->extra;
+  }
+  int global = 0;
+  for (int s = 0; s < num_segments; ++s) {
+    for (int i = 0; i < segment_layout_[s].pieces; ++i, ++global) {
+      grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i) +=
+          extra_grad_.coeffs[static_cast<std::size_t>(global)];
+      grad_t_[s][i] += extra_grad_.durations_s[static_cast<std::size_t>(global)];
+    }
+  }
+  return breakdown->extra;
 }
 
 std::vector<TrajectoryPiece> MidendProblem::pieces(const double* x) {

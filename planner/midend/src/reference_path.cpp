@@ -58,18 +58,68 @@ Node interpolate(const Node& a, const Node& b, double s) {
   return n;
 }
 
-double heuristic_duration(const Node& a, const Node& b, const MidendLimits& limits,
-                          const MidendSettings& settings) {
+// Initial time allocation over all pieces of all segments (piece order): a speed profile along
+// the base path limited by the wheel speed (v (1 + d_w |kappa| / 2) <= r omega_max, kappa from the
+// edge's heading change per metre), the joint speeds, rest at the global start and goal, v_ns at
+// gear switches and a wheel-acceleration bound (forward / backward passes), all at
+// initial_speed_fraction of the limits. Edge durations are 2 L / (v_k + v_k+1) (exact for
+// constant acceleration between nodes), at least the edge's heading / joint motion at the
+// limited rates and min_initial_piece_duration_s.
+void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits& limits,
+                    const MidendSettings& settings) {
   const double f = settings.initial_speed_fraction;
-  double t = settings.min_initial_piece_duration_s;
-  t = std::max(t, base_distance(a, b) / (f * limits.max_base_speed_mps()));
-  t = std::max(t, std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad)) /
-                      (f * limits.max_base_yaw_rate_radps()));
-  for (int j = 0; j < kNumArmJoints; ++j) {
-    t = std::max(t, std::abs(b.config.q_rad[j] - a.config.q_rad[j]) /
-                        (f * limits.joint_velocity_max_radps[j]));
+  const double v_max = f * limits.max_base_speed_mps();
+  const double yaw_rate_max = f * limits.max_base_yaw_rate_radps();
+  const double a_max = f * limits.wheel_radius_m * limits.wheel_alpha_max_radps2;
+  const double v_ns = std::min(limits.nonsingular_speed_mps, v_max);
+  struct Edge {
+    double length_m, floor_s, cap_mps;
+  };
+  std::vector<Edge> edges;
+  std::vector<double> v_node;  // speed bound at every node (segment joints shared)
+  for (std::size_t s = 0; s < segments.size(); ++s) {
+    const auto& nodes = segments[s].nodes;
+    if (s == 0) v_node.push_back(0.0);
+    for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
+      const RobotConfiguration& a = nodes[i];
+      const RobotConfiguration& b = nodes[i + 1];
+      Edge e;
+      e.length_m = std::hypot(b.base.x_m - a.base.x_m, b.base.y_m - a.base.y_m);
+      const double dyaw = std::abs(angle_difference(b.base.yaw_rad, a.base.yaw_rad));
+      e.floor_s = std::max(settings.min_initial_piece_duration_s, dyaw / yaw_rate_max);
+      for (int j = 0; j < kNumArmJoints; ++j) {
+        e.floor_s = std::max(e.floor_s, std::abs(b.q_rad[j] - a.q_rad[j]) /
+                                            (f * limits.joint_velocity_max_radps[j]));
+      }
+      const double curvature = e.length_m > 0.0 ? dyaw / e.length_m : 0.0;
+      e.cap_mps = v_max / (1.0 + 0.5 * limits.track_width_m * curvature);
+      e.cap_mps = std::min(e.cap_mps, e.length_m / e.floor_s);
+      edges.push_back(e);
+      const bool gear = i + 2 == nodes.size() && s + 1 < segments.size();
+      const bool goal = i + 2 == nodes.size() && s + 1 == segments.size();
+      v_node.push_back(goal ? 0.0 : gear ? v_ns : v_max);
+    }
   }
-  return t;
+  const std::size_t n = edges.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    v_node[i] = std::min(v_node[i], edges[i].cap_mps);
+    v_node[i + 1] = std::min(v_node[i + 1], edges[i].cap_mps);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    v_node[i + 1] = std::min(v_node[i + 1], std::sqrt(v_node[i] * v_node[i] + 2.0 * a_max * edges[i].length_m));
+  }
+  for (std::size_t i = n; i-- > 0;) {
+    v_node[i] = std::min(v_node[i], std::sqrt(v_node[i + 1] * v_node[i + 1] + 2.0 * a_max * edges[i].length_m));
+  }
+  std::size_t k = 0;
+  for (ReferenceSegment& seg : segments) {
+    seg.durations_s.clear();
+    for (int i = 0; i + 1 < static_cast<int>(seg.nodes.size()); ++i, ++k) {
+      const double v_sum = v_node[k] + v_node[k + 1];
+      const double t = v_sum > 0.0 ? 2.0 * edges[k].length_m / v_sum : edges[k].floor_s;
+      seg.durations_s.push_back(std::max(t, edges[k].floor_s));
+    }
+  }
 }
 
 }  // namespace
@@ -180,18 +230,14 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
       const double dq = (b.config.q_rad - a.config.q_rad).norm();
       int m = static_cast<int>(std::ceil(std::max(db / base_step, dq / arm_step) - 1e-9));
       m = std::clamp(m, 1, settings.max_pieces_per_edge);
-      const double frontend_dt = (b.time_s - a.time_s) / m;
-      Node prev = a;
       for (int k = 1; k <= m; ++k) {
         const Node n = k == m ? b : interpolate(a, b, static_cast<double>(k) / m);
-        const double guess = heuristic_duration(prev, n, limits, settings);
-        r.durations_s.push_back(std::max(guess, frontend_dt));
         r.nodes.push_back(n.config);
-        prev = n;
       }
     }
     out.path.segments.push_back(std::move(r));
   }
+  allocate_times(out.path.segments, limits, settings);
   out.outcome = ReferenceOutcome::kOk;
   return out;
 }

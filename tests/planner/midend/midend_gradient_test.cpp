@@ -9,6 +9,7 @@
 #include "porter/core/trajectory.hpp"
 #include "porter/midend/midend_problem.hpp"
 #include "porter/midend/reference_path.hpp"
+#include "porter/minco/time_map.hpp"
 #include "synthetic_paths.hpp"
 
 namespace porter::midend {
@@ -81,6 +82,11 @@ void check(const planner::WholeBodyPath& path, unsigned seed, const char* label,
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   for (int trial = 0; trial < 1; ++trial) {
     Eigen::VectorXd x = problem.initial_guess();
+    // Uniform 0.5 s pieces: brisker than the speed-profile guess, so that the rest-boundary wheel
+    // limits are violated too.
+    for (int k = 0; k + 1 < n; ++k) {
+      if (kind[k] == 1) x[k] = minco::tau_from_duration(0.5);
+    }
     for (int k = 0; k < n; ++k) x[k] += (kind[k] == 1 ? 0.4 : 0.15) * u(rng);
     // Slow the gear switches' neighbourhood down so that the non-singular speed is violated.
     x[n - 1] += 0.2;

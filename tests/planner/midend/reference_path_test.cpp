@@ -97,11 +97,16 @@ TEST(ReferencePath, DensifiesLongEdges) {
   for (std::size_t i = 1; i < nodes.size(); ++i) {
     EXPECT_NEAR(nodes[i].base.x_m - nodes[i - 1].base.x_m, 3.0 / 13, 1e-12);
   }
-  // Initial durations respect the speed guess (3 m at half of ~1.05 m/s) even though the
-  // front-end allotted only 1 s.
+  // Initial durations follow the speed profile (rest to rest over 3 m at initial_speed_fraction
+  // of the speed and acceleration limits), not the 1 s the front-end allotted.
+  const double f = s.initial_speed_fraction;
+  const double v = f * limits().max_base_speed_mps();
+  const double a = f * limits().wheel_radius_m * limits().wheel_alpha_max_radps2;
   double total = 0.0;
   for (double d : b.path.segments[0].durations_s) total += d;
-  EXPECT_GT(total, 3.0 / (0.5 * limits().max_base_speed_mps()) - 1e-9);
+  EXPECT_GT(total, 3.0 / v);           // never faster than the top speed
+  EXPECT_LT(total, 3.0 / v + v / a + 0.05);  // trapezoid: accelerate, cruise, brake
+
 }
 
 TEST(ReferencePath, SyntheticThreePointTurnHasThreeSegments) {

@@ -38,6 +38,16 @@
 // through the rest instant). At a held heading the rates are 0 (speed_mps still reports |pd|,
 // which is then below kRestSpeed_mps).
 //
+// Near a rest instant the quotients above cancel catastrophically in double precision (pd is a
+// sum of O(1) terms that cancels to O(h^(k-1)), and alpha_b is the difference of two O(1/h)
+// terms). So below kSlowSpeed_mps, when an end t0 of the piece is a rest instant, everything is
+// evaluated from the exact re-expansion around it: with h = t - t0 != 0 and d_r = p^(r)(t0),
+// pd = h^(k-1) W(h), W(h) = sum_{m >= k-1} d_{m+1} h^(m-k+1) / m! (the orders below k are
+// rounding residuals at t0 and are dropped: the rest is taken as exact), omega_b = (W x W')/|W|^2,
+// alpha_b = (W x W'')/|W|^2 - 2 (W x W')(W . W')/|W|^4, v_b = |h|^(k-1) |W|, a_b = d v_b/dt and the
+// motion direction sgn(h)^(k-1) W / |W| (this also replaces speed_mps and signed_speed_mps by
+// the re-expanded, more accurate value). Relative error ~1e-12 down to 10 us from rest.
+//
 // Thread-safety: a Trajectory is an immutable value; all const members are reentrant. No query
 // allocates memory.
 // Failure: Trajectory::create() validates runtime data (it arrives from the network or a file)
@@ -58,9 +68,14 @@ struct BaseLimits;  // robot_model.hpp
 inline constexpr int kTrajDegree = 5;
 inline constexpr int kTrajNumCoeffs = kTrajDegree + 1;
 
-/// Below this speed the base is treated as at rest for the heading rule (10 um/s: far below what
-/// a base can execute, and large enough that omega_b's rounding error stays < 1e-6 rad/s).
+/// Below this speed the base is treated as at rest: for the heading rule at an instant that is
+/// not next to a rest end of its piece, and to recognise a piece end as a rest instant.
 inline constexpr double kRestSpeed_mps = 1e-5;
+/// Below this speed, within a piece that has a rest instant at one of its ends (|dp/dt| <
+/// kRestSpeed_mps there), the base rates come from the expansion of dp/dt around that instant
+/// (see the header comment); the direct quotients lose all precision there (e.g. alpha_b off by
+/// 5 rad/s^2 at 1 ms from rest in double).
+inline constexpr double kSlowSpeed_mps = 1e-2;
 /// A derivative of p_xy of order >= 2 smaller than this (m/s^k) counts as vanishing.
 inline constexpr double kVanishing = 1e-9;
 

@@ -15,29 +15,6 @@ TrajVector node_vector(const RobotConfiguration& c) {
   return z;
 }
 
-// Base rates near a rest instant t0 (v = a = 0 there), evaluated stably: p_xy'(t0 + h) = h^2 U(h)
-// with U(h) = j/2 + s h/6 + c h^2/24 (j, s, c = derivatives 3..5 at t0). Evaluating v directly
-// loses all precision there (v is a sum of O(1) terms that cancel to O(h^2)).
-struct RestRates {
-  double yaw_rad, yaw_rate, yaw_accel, speed, accel;
-};
-RestRates rest_rates(const PieceCoeffs& c, double t0, double h, int eta) {
-  const Eigen::Vector2d j = piece_derivative(c, t0, 3).head<2>();
-  const Eigen::Vector2d s = piece_derivative(c, t0, 4).head<2>();
-  const Eigen::Vector2d k = piece_derivative(c, t0, 5).head<2>();
-  const Eigen::Vector2d u = j / 2.0 + s * h / 6.0 + k * h * h / 24.0;
-  const Eigen::Vector2d u1 = s / 6.0 + k * h / 12.0;
-  const Eigen::Vector2d u2 = k / 12.0;
-  const double n2 = u.squaredNorm();
-  RestRates r;
-  r.yaw_rad = std::atan2(eta * u.y(), eta * u.x());
-  r.yaw_rate = cross2(u, u1) / n2;
-  r.yaw_accel = cross2(u, u2) / n2 - 2.0 * cross2(u, u1) * u.dot(u1) / (n2 * n2);
-  r.speed = h * h * std::sqrt(n2);
-  r.accel = 2.0 * h * std::sqrt(n2) + h * h * u.dot(u1) / std::sqrt(n2);
-  return r;
-}
-
 }  // namespace
 
 CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPath& path,
@@ -109,25 +86,7 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
   const double rho_b2 = settings.residual_base_bound_m * settings.residual_base_bound_m;
   for (int s = 0; s <= steps; ++s) {
     const double t = std::min(s * dt_s, total);
-    TrajectoryState st = traj.sample(t, limits.track_width_m, limits.wheel_radius_m);
-    {
-      // Within the first / last piece and slower than 1 cm/s: use the stable rest expansion.
-      double tau = 0.0;
-      const int i = traj.locate(t, &tau);
-      const TrajectoryPiece& pc = traj.piece(i);
-      const bool near_start = i == 0 && st.z_dot.head<2>().norm() < 1e-2 && tau < 0.5 * pc.duration_s;
-      const bool near_end = i == n - 1 && st.z_dot.head<2>().norm() < 1e-2 && tau > 0.5 * pc.duration_s;
-      if ((near_start || near_end) && piece_derivative(pc.coeffs, near_start ? 0.0 : pc.duration_s, 3).head<2>().norm() > 1e-6) {
-        const double t0 = near_start ? 0.0 : pc.duration_s;
-        const RestRates rr = rest_rates(pc.coeffs, t0, tau - t0, pc.eta);
-        st.base.yaw_rad = rr.yaw_rad;
-        const double half = 0.5 * limits.track_width_m;
-        st.wheels.left_radps = (pc.eta * rr.speed - half * rr.yaw_rate) / limits.wheel_radius_m;
-        st.wheels.right_radps = (pc.eta * rr.speed + half * rr.yaw_rate) / limits.wheel_radius_m;
-        st.wheels.left_radps2 = (pc.eta * rr.accel - half * rr.yaw_accel) / limits.wheel_radius_m;
-        st.wheels.right_radps2 = (pc.eta * rr.accel + half * rr.yaw_accel) / limits.wheel_radius_m;
-      }
-    }
+    const TrajectoryState st = traj.sample(t, limits.track_width_m, limits.wheel_radius_m);
     ++r.samples;
     if (!st.z.allFinite() || !st.z_dot.allFinite() || !st.z_ddot.allFinite() ||
         !std::isfinite(st.base.yaw_rad) || !std::isfinite(st.wheels.left_radps) ||

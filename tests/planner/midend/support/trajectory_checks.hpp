@@ -1,9 +1,8 @@
 #pragma once
 // Independent checks of a mid-end trajectory, sampled densely through porter::Trajectory (core's
-// evaluation, heading rule and wheel rates — not the mid-end's own formulas). Exception: within
-// the first/last piece below 1 cm/s (next to the rest boundaries) the base rates are evaluated
-// from the re-expansion p_xy' = (t - t0)^2 U(t), because direct evaluation of the quotients
-// loses all precision there (observed: alpha_b off by 1e3 at 0.1 ms from rest in double).
+// evaluation, heading rule and wheel rates — not the mid-end's own formulas). Next to the rest
+// boundaries core evaluates the rates from its stable expansion around the rest instant
+// (trajectory.hpp, kSlowSpeed_mps).
 
 #include "porter/core/trajectory.hpp"
 #include "porter/midend/midend_limits.hpp"

@@ -35,10 +35,25 @@
 // one extra sample (trapezoid end weight) at each rest boundary, with |U|^2 guarded by
 // boundary_jerk_guard_mps3^2/4.
 //
+// Penalty sampling: the hot loop runs a fast kernel (src/piece_sampler.hpp) that returns the same
+// value and partials as the straightforward reference integrand (src/sample_penalty.hpp through
+// minco::integrate_piece_penalty); set_reference_sampling(true) switches to the reference, which
+// the tests compare against.
+//
+// Extra cost (extension point for the back-end's safety term): set_extra_cost() attaches a
+// function K(trajectory) that receives the trajectory x describes and returns its value and,
+// when asked, its partials with respect to every piece's coefficients and duration (each held
+// fixed while the other varies: the convention of minco::integrate_piece_penalty). The mid-end
+// propagates them through MINCO to x together with its own terms; K is reported as
+// CostBreakdown::extra and can be masked with kTermExtra.
+//
 // Not thread-safe (workspace inside); build one per solve. evaluate() does not allocate after
-// the first call.
+// the first call (except inside an extra cost, which builds a Trajectory per call).
 
+#include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
@@ -53,6 +68,10 @@
 
 namespace porter::midend {
 
+namespace detail {
+struct SamplerConstants;  // src/piece_sampler.hpp
+}
+
 /// Cost terms, as bits, to evaluate a subset (gradient tests, diagnostics).
 enum Term : std::uint32_t {
   kTermEnergy = 1u << 0,
@@ -66,8 +85,21 @@ enum Term : std::uint32_t {
   kTermResidualArm = 1u << 8,
   kTermBoundaryHeading = 1u << 9,
   kTermMinSpeed = 1u << 10,
-  kTermAll = (1u << 11) - 1,
+  kTermExtra = 1u << 11,  ///< the extra cost set by MidendProblem::set_extra_cost
+  kTermAll = (1u << 12) - 1,
 };
+
+/// Partials of an extra cost with respect to each piece's coefficients and duration (pieces in
+/// trajectory order; the vectors arrive sized and zeroed).
+struct ExtraCostGradient {
+  std::vector<PieceCoeffs> coeffs;
+  std::vector<double> durations_s;
+};
+
+/// An extra cost term over the assembled trajectory. Returns K; when `grad` is non-null, adds
+/// dK/dc_i and dK/dT_i to it. Must be deterministic and finite for a usable trajectory (return
+/// +infinity to reject it). Called on the solving thread; must not throw.
+using ExtraCost = std::function<double(const Trajectory& trajectory, ExtraCostGradient* grad)>;
 
 class MidendProblem {
  public:
@@ -86,7 +118,12 @@ class MidendProblem {
   Eigen::VectorXd initial_guess() const;
 
   /// Restricts evaluate() to a subset of Term bits (default kTermAll).
-  void set_terms(std::uint32_t mask) { terms_ = mask; }
+  void set_terms(std::uint32_t mask);
+  /// Evaluates the sampled penalties with the slow reference integrand instead of the fast
+  /// kernel (same results up to rounding; for tests).
+  void set_reference_sampling(bool on) { reference_sampling_ = on; }
+  /// Attaches an extra cost term (empty function: none). See the header comment.
+  void set_extra_cost(ExtraCost cost) { extra_cost_ = std::move(cost); }
 
   /// Cost at x (size num_variables()); writes the gradient to grad (same size) when non-null and
   /// the per-term split to breakdown when non-null. Returns +infinity (gradient zeroed) when a
@@ -119,6 +156,7 @@ class MidendProblem {
   double piece_penalty(int s, int i, CostBreakdown* breakdown);
   double boundary_heading(int s, bool at_start, CostBreakdown* breakdown);
   double rest_rates(int s, bool at_start, CostBreakdown* breakdown);
+  double extra_cost(const double* x, bool want_grad, CostBreakdown* breakdown);
 
   ReferencePath reference_;
   MidendLimits limits_;
@@ -126,6 +164,11 @@ class MidendProblem {
   minco::PenaltyFunction penalty_;
   Minco::Vector energy_weights_;
   std::uint32_t terms_ = kTermAll;
+  bool reference_sampling_ = false;
+  std::shared_ptr<const detail::SamplerConstants> sampler_;
+  std::vector<std::vector<std::array<double, 2>>> node_dir_;  ///< (cos, sin) of node yaws
+  ExtraCost extra_cost_;
+  ExtraCostGradient extra_grad_;
   int num_variables_ = 0;
   int time_scale_index_ = 0;
   std::vector<SegmentLayout> segment_layout_;

@@ -24,10 +24,11 @@ struct CostBreakdown {
   double residual_arm = 0.0;         ///< e_m penalty
   double min_speed = 0.0;            ///< non-singular speed inside segments
   double boundary_heading = 0.0;
+  double extra = 0.0;                ///< MidendProblem::set_extra_cost's term (0 without one)
 
   double total() const {
     return energy + time + wheel_velocity + wheel_acceleration + joint_position + joint_velocity +
-           joint_acceleration + residual_base + residual_arm + min_speed + boundary_heading;
+           joint_acceleration + residual_base + residual_arm + min_speed + boundary_heading + extra;
   }
   /// Sum of every penalty term (zero means no sampled constraint is violated).
   double penalties() const { return total() - energy - time; }

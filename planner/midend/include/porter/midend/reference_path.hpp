@@ -15,9 +15,14 @@
 //   6. splits every edge longer than densify_factor * rho_b (base metric
 //      sqrt(|dp|^2 + w_phi dyaw^2)) or densify_factor * rho_m (joints) into equal sub-edges with
 //      linearly interpolated nodes (yaw along the shortest arc);
-//   7. sets each piece's initial duration to max(front-end time difference, the time at
-//      initial_speed_fraction of the base speed / yaw rate / joint speed limits,
-//      min_initial_piece_duration_s).
+//   7. allocates initial durations from a speed profile over all pieces: node speeds bounded by
+//      the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <= r omega_max), the
+//      joint speeds, 0 at the global start and goal, v_ns at gear switches, then forward/backward
+//      passes with the wheel acceleration bound (a <= r alpha_max), all at
+//      initial_speed_fraction of the limits; a piece lasts 2 L / (v_k + v_k+1), at least its
+//      heading / joint motion at the limited rates and min_initial_piece_duration_s. The
+//      front-end's node times are not used (they are a plan's guess, often a cruise speed far
+//      below the limits).
 // Pure function; thread-safe.
 
 #include <string>

@@ -1,0 +1,65 @@
+#pragma once
+// Internal: the fast penalty transcription of one piece (the hot loop of the mid-end cost).
+//
+// It integrates exactly the integrand of sample_penalty.hpp (wheel rates, joint limits, the
+// non-singular speed and the pose residuals) with the trapezoid rule of
+// minco::integrate_piece_penalty, and returns the same value and partials, but
+//   - evaluates the derivatives of the 8 outputs with one pass over the 6 coefficient rows
+//     (row-major, contiguous) and the base's jerk/snap only for p_x, p_y;
+//   - tests every constraint on its value first and computes a partial only for a violated one
+//     (the usual sample violates nothing or only the base terms);
+//   - bounds the base pose residual from above without atan2 and skips it when the bound is
+//     feasible; when it is evaluated, the heading difference is one atan2 of (u x w, u . w);
+//   - adds the sample's partials to the coefficient gradient only for the outputs whose partial
+//     is non-zero.
+// The slow reference (SamplePenalty + integrate_piece_penalty) is kept and the two are compared
+// in tests/planner/midend/piece_sampler_test.cpp (MidendProblem::set_reference_sampling).
+//
+// Pure apart from the output arguments; thread-safe.
+
+#include <cstdint>
+
+#include "porter/core/types.hpp"
+#include "porter/midend/midend_limits.hpp"
+#include "porter/midend/midend_result.hpp"
+#include "porter/midend/midend_settings.hpp"
+#include "porter/minco/penalty.hpp"
+
+namespace porter::midend::detail {
+
+/// Per-problem constants of the sampled terms (bounds inverted once).
+struct SamplerConstants {
+  SamplerConstants(const MidendLimits& limits, const MidendSettings& settings, std::uint32_t terms);
+
+  minco::PenaltyFunction penalty;
+  bool wheel_velocity = false, wheel_acceleration = false;
+  bool joint_position = false, joint_velocity = false, joint_acceleration = false;
+  bool residual_base = false, residual_arm = false, min_speed = false;
+  double w_wheel_velocity = 0.0, w_wheel_acceleration = 0.0, w_joint_position = 0.0,
+         w_joint_velocity = 0.0, w_joint_acceleration = 0.0, w_residual_base = 0.0,
+         w_residual_arm = 0.0, w_min_speed = 0.0;
+  double half_track_m = 0.0, inv_wheel_radius = 0.0;
+  double inv_omega_max2 = 0.0, inv_alpha_max2 = 0.0;
+  double speed_guard2 = 0.0;
+  JointVector lower_rad, upper_rad, inv_qd_max2, inv_qdd_max2;
+  double inv_rho_b2 = 0.0, rho_b2 = 0.0, inv_rho_m2 = 0.0, yaw_weight_m2 = 0.0, gate2 = 0.0;
+};
+
+/// What differs per piece.
+struct PieceInputs {
+  int eta = 1;
+  const RobotConfiguration* node_start = nullptr;
+  const RobotConfiguration* node_end = nullptr;
+  double start_dir[2] = {1.0, 0.0};  ///< (cos, sin) of node_start's yaw
+  double end_dir[2] = {1.0, 0.0};    ///< (cos, sin) of node_end's yaw
+  double min_speed_mps = 0.0;  ///< > 0: keep |v_xy| above it
+};
+
+/// Integrates the sampled penalties over one piece with `kappa` trapezoid intervals. `coeffs`
+/// and `grad_c` are 6 x 8 row-major (row k multiplies t^k); partials are added to grad_c and
+/// *grad_t, per-term integrals to *breakdown (never null). Returns the integral.
+double sample_piece(const SamplerConstants& k, const PieceInputs& in, const double* coeffs,
+                    double duration_s, int kappa, double* grad_c, double* grad_t,
+                    CostBreakdown* breakdown);
+
+}  // namespace porter::midend::detail
