@@ -117,7 +117,8 @@ GEOMETRY = {
     # link2: upper arm along +x (285 mm) and the joint-3 housing (axis = link2 z).
     "link2": [box((0.25, 0.06, 0.07), (0.1425, 0, 0)), cyl(0.045, 0.09, (0.28503, 0, 0))],
     # link3: forearm from the elbow along -y to the wrist, 22 mm offset in -x.
-    "link3": [box((0.06, 0.22, 0.06), (-0.011, -0.13, 0)), cyl(0.04, 0.08, (0, 0, 0))],
+    # (ends where the wrist-roll housing of link4 begins, so links 3 and 5 never overlap)
+    "link3": [box((0.06, 0.175, 0.06), (-0.011, -0.1075, 0)), cyl(0.04, 0.08, (0, 0, 0))],
     # link4: wrist roll housing around the forearm axis (link4 z), joint-5 housing on y.
     "link4": [cyl(0.035, 0.07, (0, 0, -0.02)), cyl(0.035, 0.07, (0, 0, 0), Y_AXIS)],
     # link5: wrist pitch body reaching to the flange along -y.

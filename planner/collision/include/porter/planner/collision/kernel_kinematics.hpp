@@ -1,0 +1,87 @@
+#pragma once
+// Chain geometry the kernel checker needs besides the kernels themselves:
+//   - ChainRadii: configuration-independent bounds on how far link points lie from joint
+//     origins, which set the joint sample counts, the map padding and the motion-check step;
+//   - KernelKinematics: forward kinematics in the base frame B, float32 with 4-lane columns and a
+//     table-based sin/cos, several times faster than porter::arm_forward_kinematics.
+//
+// Frames: B base, J_j the frame a kernel of link j is voxelized in (parent frame after joint j's
+// origin, before its rotation; J_7 = L_7 = EE), L_j the link frame. Units: metres, radians.
+// Thread-safety: immutable after construction; concurrent reads are safe.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
+
+#include "porter/core/robot_model.hpp"
+#include "porter/core/types.hpp"
+#include "porter/planner/collision/pose4f.hpp"
+
+namespace porter::planner {
+
+struct ChainRadii {
+  /// r_j: largest distance of link j's geometry from its frame origin (base origin for 0,
+  /// joint j's origin for 1..6, EE origin for 7). Bounds the distance from joint j's axis too.
+  std::array<double, kNumLinks> link_radius_m{};
+  /// rho_j (index j-1): largest distance of any point of links j..7 from joint j's origin, over
+  /// all configurations (chain of joint offsets plus link radii).
+  std::array<double, kNumArmJoints> sweep_radius_m{};
+  /// Largest distance of any robot point from the base origin, over all configurations.
+  double reach_m = 0.0;
+};
+
+ChainRadii compute_chain_radii(const RobotModel& model);
+
+/// sin and cos of x (finite, |x| < 1e6) in float32: exact quadrant reduction in double, then
+/// the Cephes sinf/cosf minimax polynomials on [-pi/4, pi/4] (error < 2e-7). Inline, no libm.
+inline void fast_sincos(double x, float* s, float* c) {
+  constexpr double kTwoOverPi = 0.63661977236758134308;
+  constexpr double kPiOver2Hi = 1.5707963267948966192;
+  constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52: adding it rounds to an integer
+  const double k = (x * kTwoOverPi + kRound) - kRound;
+  const auto r = static_cast<float>(x - k * kPiOver2Hi);
+  const float r2 = r * r;
+  const float sr = r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
+  const float cr =
+      1.f - 0.5f * r2 + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
+  const int q = static_cast<int>(static_cast<long long>(k) & 3);
+  const float sq = (q & 1) ? cr : sr, cq = (q & 1) ? sr : cr;
+  *s = (q & 2) ? -sq : sq;
+  *c = ((q + 1) & 2) ? -cq : cq;
+}
+
+/// Link poses in the base frame B (float32): the kernel frames T_B_J (index 1..7; [0] = B)
+/// and the link frames T_B_L (index 0..7; [0] = B).
+struct ArmPoses {
+  std::array<Pose4f, kNumLinks> T_B_J;
+  std::array<Pose4f, kNumLinks> T_B_L;
+};
+
+class KernelKinematics {
+ public:
+  KernelKinematics() = default;
+  explicit KernelKinematics(const RobotModel& model);
+  /// Same result as porter::arm_forward_kinematics to float rounding (< 1e-6 m for arm-sized
+  /// chains), no heap allocation.
+  void compute(const JointVector& q_rad, ArmPoses& poses) const;
+
+ private:
+  /// A fixed transform, with the shape of its rotation recorded so that composing with it costs
+  /// only what it must (URDF joint origins are mostly axis permutations or pure offsets).
+  struct FixedTransform {
+    enum class Kind { kTranslation, kPermutation, kGeneral } kind = Kind::kGeneral;
+    Pose4f T;
+    std::array<int, 3> column{};  ///< kPermutation: column j of R is sign[j] * e_column[j]
+    std::array<float, 3> sign{};
+    explicit FixedTransform(const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity());
+    /// parent * T
+    Pose4f after(const Pose4f& parent) const;
+  };
+
+  std::array<FixedTransform, kNumArmJoints> T_parent_joint_;
+  std::array<Eigen::Matrix3d, kNumArmJoints> K_, K2_;  ///< [axis]x and its square (Rodrigues)
+  std::array<int, kNumArmJoints> z_axis_{};            ///< +1 / -1 when the axis is +z / -z, else 0
+  FixedTransform T_L6_EE_;
+};
+
+}  // namespace porter::planner

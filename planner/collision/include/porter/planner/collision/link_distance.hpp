@@ -1,0 +1,108 @@
+#pragma once
+// Signed distance to one planning link's exact geometry (the union of its collision shapes),
+// and a rasterized distance grid of it used as a cheap lower bound. Used by the self-collision check and by
+// its build-time proofs; nothing here approximates: DistanceGrid holds lower bounds.
+//
+// Frames and units: the link frame L (the frame the shapes are given in), metres.
+// Thread-safety: immutable after construction; concurrent reads are safe.
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "porter/core/geometry.hpp"
+
+namespace porter::planner {
+
+class LinkDistance {
+ public:
+  LinkDistance() = default;
+  explicit LinkDistance(const std::vector<CollisionShape>& shapes_L);
+
+  bool empty() const { return shapes_.empty(); }
+  /// Bounds of all shapes (link frame); empty box when the link has no shapes.
+  const Eigen::AlignedBox3d& bounds() const { return bounds_; }
+
+  /// min over shapes of the shape's signed distance: the exact distance to the union outside
+  /// it, <= 0 inside it (sign exact; the depth is a shape's, not the union's). +inf when empty.
+  double signed_distance(const Eigen::Vector3d& p_L) const;
+
+  /// True when signed_distance(p_L) <= threshold_m (exits at the first shape that is close).
+  bool within(const Eigen::Vector3f& p_L, float threshold_m) const;
+
+ private:
+  enum class Kind { kBox, kCylinder, kSphere, kMesh };
+  struct Prim {
+    Kind kind = Kind::kBox;
+    Eigen::Matrix3f R_S_L = Eigen::Matrix3f::Identity();  ///< link -> shape rotation
+    Eigen::Vector3f t_S_L = Eigen::Vector3f::Zero();
+    Eigen::Vector3f half_m = Eigen::Vector3f::Zero();  ///< box half sizes; cylinder (r, r, l/2)
+    Eigen::AlignedBox3f bounds_L;                      ///< of the shape, link frame
+    int shape = 0;                                     ///< index into shapes_
+  };
+  static float prim_distance(const Prim& prim, const Eigen::Vector3f& p_L);
+
+  std::vector<CollisionShape> shapes_;
+  std::vector<Prim> prims_;
+  Eigen::AlignedBox3d bounds_;
+};
+
+/// A link rasterized on the lattice of voxels of edge s whose corners are s Z^3 (link frame):
+/// the voxels its shapes intersect (exact, porter::voxelize_shape: closed boxes, touching
+/// counts), and for every voxel of the box around them (the shapes' bounds grown by margin_m) a
+/// lower bound of the distance from any point of the voxel to the geometry: s times the
+/// distance between voxel centres to the 26-dilated occupied set, which is exactly the smallest
+/// gap between the voxel's box and an occupied voxel's box. Stored as bytes in units of s / 8,
+/// rounded down and clamped at 255 (a clamped value is still a lower bound).
+class DistanceGrid {
+ public:
+  DistanceGrid() = default;
+  DistanceGrid(const std::vector<CollisionShape>& shapes_L, double voxel_m, double margin_m);
+
+  /// Centres of the occupied voxels: every point of the geometry lies in the voxel of one of
+  /// them, hence within s sqrt(3)/2 of it.
+  const std::vector<Eigen::Vector3f>& occupied_centres() const { return centres_; }
+
+  /// A lower bound of the distance from p_L to the geometry (0 inside). Outside the box: the
+  /// distance to the box plus margin_m (the geometry lies at least margin_m inside it).
+  float lower_bound(const Eigen::Vector3f& p_L) const {
+    const Eigen::Vector3f u = (p_L - origin_).array() * inv_voxel_;
+    if ((u.array() >= 0.f).all() && (u.array() < extent_.array()).all()) {
+      const int ix = static_cast<int>(u.x()), iy = static_cast<int>(u.y()), iz = static_cast<int>(u.z());
+      return static_cast<float>(values_[static_cast<std::size_t>(ix + dims_.x() * (iy + dims_.y() * iz))]) * unit_;
+    }
+    const Eigen::Vector3f d = (u.cwiseMax(0.f).cwiseMin(extent_) - u) * voxel_;
+    return d.norm() + margin_;
+  }
+  /// lower_bound(p_L) > distance_m, without a square root on the common paths.
+  bool clear_of(const Eigen::Vector3f& p_L, float distance_m) const {
+    const Eigen::Vector3f u = (p_L - origin_).array() * inv_voxel_;
+    // floor(u) for u > -1 by truncating u + 1; anything below lands on -1 or less: outside.
+    const int ix = static_cast<int>(u.x() + 1.f) - 1, iy = static_cast<int>(u.y() + 1.f) - 1,
+              iz = static_cast<int>(u.z() + 1.f) - 1;
+    if (static_cast<unsigned>(ix) < static_cast<unsigned>(dims_.x()) &&
+        static_cast<unsigned>(iy) < static_cast<unsigned>(dims_.y()) &&
+        static_cast<unsigned>(iz) < static_cast<unsigned>(dims_.z())) {
+      return static_cast<float>(values_[static_cast<std::size_t>(ix + dims_.x() * (iy + dims_.y() * iz))]) * unit_ >
+             distance_m;
+    }
+    const float need = distance_m - margin_;
+    if (need < 0.f) return true;
+    const Eigen::Vector3f d = (u.cwiseMax(0.f).cwiseMin(extent_) - u) * voxel_;
+    return d.squaredNorm() > need * need;
+  }
+
+  std::size_t bytes() const { return values_.size(); }
+
+ private:
+  Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  Eigen::Vector3f extent_ = Eigen::Vector3f::Zero();  ///< dims as floats
+  float voxel_ = 1.f, inv_voxel_ = 1.f, margin_ = 0.f, unit_ = 1.f;
+  std::vector<std::uint8_t> values_;
+  std::vector<Eigen::Vector3f> centres_;
+};
+
+}  // namespace porter::planner

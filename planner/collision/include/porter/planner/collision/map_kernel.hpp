@@ -1,0 +1,157 @@
+#pragma once
+// The map kernel (paper §IV-B, K_map): the obstacle map as padded, bit-packed 3D occupancy that
+// the robot kernels are tested against with single-bit lookups, plus the derived data that lets
+// a query skip whole regions.
+//
+// Lattice: the voxels of the OccupancyGrid given to set_map() (origin o, resolution h), extended
+// by `padding_voxels` P on every side, so that index (x, y, z) here is grid index + P. Rows along
+// x are word-aligned: bit x of row (y, z) is bit x % 64 of word (y + Ny z) * W + x / 64, with one
+// spare word per row so a 64-bit window starting at any x in the row can be read.
+//
+// Sets held (each voxel a closed box):
+//   O     occupied voxels of the grid;
+//   O_m   O dilated by the safety margin r_m: every voxel whose box is closer than r_m (strict)
+//         to the box of an occupied voxel (r_m = 0: O_m = O);
+//   base  O_m  ∪ voxels outside the grid horizontally or above its top (or between the ground
+//         and the grid's bottom when the grid starts above z = 0). Voxels below the ground are
+//         NOT set: the ground is not an obstacle for the base. Tested by the base kernel K^0.
+//   arm   dilate26(O_m ∪ every voxel outside the grid ∪ every voxel below the ground z = 0),
+//         the 26-neighbourhood dilation the point kernels K^1..K^7 need to be conservative
+//         (see robot_kernels.hpp). Tested by the arm and payload kernels.
+// The ground z = 0 must be a voxel boundary (o_z / h an integer); set_map() throws
+// std::invalid_argument otherwise. Its padded layer index is ground_layer().
+//
+// Derived data, kept exact with respect to the sets above:
+//   - a 2D summed-area table of the base set projected over the base kernel's layers
+//     [ground, ground + base_layers): the number of set columns in any x-y rectangle in O(1);
+//   - a distance field over cells of 2 x 2 x 2 voxels of the grid's region: a lower bound, in
+//     units of h / 4, of the distance from any point of the cell to the nearest voxel of the arm
+//     set (0 outside the grid's region), capped at distance_cap_m: the smallest box-to-box gap
+//     between one of the cell's voxels and an arm-set voxel, from an exact Euclidean distance
+//     transform at voxel level.
+//
+// Incremental update: set_map() with a grid of the same origin, resolution and size compares it
+// with the current one and recomputes only the rows and cells within reach of the changed voxels
+// (margin + 1 voxel for the sets, + the distance cap for the distance field).
+//
+// Thread-safety: const members may be called concurrently; set_map() needs exclusive access.
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "porter/core/occupancy_grid.hpp"
+
+namespace porter::planner {
+
+struct MapKernelSettings {
+  /// Safety margin r_m >= 0 (m): voxels closer than this to an occupied voxel count as occupied.
+  double safety_margin_m = 0.0;
+  /// Distances above this are stored as this (m); bounds the reach of an incremental update.
+  double distance_cap_m = 1.0;
+};
+
+struct MapUpdateStats {
+  bool incremental = false;  ///< false: everything was rebuilt
+  std::int64_t changed_voxels = 0;
+  Eigen::Vector3i changed_lo = Eigen::Vector3i::Zero();  ///< grid index box of the changes (inclusive)
+  Eigen::Vector3i changed_hi = Eigen::Vector3i::Constant(-1);
+};
+
+class MapKernel {
+ public:
+  MapKernel() = default;
+  /// padding_voxels >= 1 on every side; base_layers >= 1 voxel layers above the ground covered by
+  /// the base kernel (for the projection). Throws std::invalid_argument on bad values.
+  MapKernel(const MapKernelSettings& settings, int padding_voxels, int base_layers);
+
+  /// Replaces the map; incremental when the grid has the current geometry. Throws
+  /// std::invalid_argument for an empty grid or a ground that is not a voxel boundary.
+  MapUpdateStats set_map(const OccupancyGrid& grid);
+
+  bool has_map() const { return !arm_.empty(); }
+  const MapKernelSettings& settings() const { return settings_; }
+  int padding() const { return pad_; }
+  double resolution_m() const { return res_; }
+  /// World position of padded voxel (0, 0, 0)'s minimum corner.
+  const Eigen::Vector3d& padded_origin_W() const { return padded_origin_W_; }
+  const Eigen::Vector3i& padded_dims() const { return dims_; }
+  const Eigen::Vector3i& grid_dims() const { return grid_dims_; }
+  int ground_layer() const { return ground_; }
+  int base_layers() const { return base_layers_; }
+
+  /// Bit of the arm set at padded index (precondition: inside the padded array).
+  bool arm_bit(int x, int y, int z) const {
+    const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
+    return (arm_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
+  }
+  /// 64 bits of the base set starting at padded x in row (y, z): bit i is voxel x + i.
+  std::uint64_t base_window(int x, int y, int z) const {
+    const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
+    const std::size_t w = static_cast<std::size_t>(b >> 6);
+    const int s = static_cast<int>(b & 63);
+    return (base_[w] >> s) | ((base_[w + 1] << 1) << (63 - s));
+  }
+  bool base_bit(int x, int y, int z) const { return base_window(x, y, z) & 1u; }
+  /// Number of (x, y) columns in [x0, x1] x [y0, y1] (padded, inclusive, inside the array) with
+  /// a base-set voxel in the base layers.
+  std::int64_t base_columns_set(int x0, int y0, int x1, int y1) const {
+    const std::int64_t sx = dims_.x() + 1;
+    auto at = [&](int x, int y) { return sat_[static_cast<std::size_t>(x + sx * y)]; };
+    return at(x1 + 1, y1 + 1) - at(x0, y1 + 1) - at(x1 + 1, y0) + at(x0, y0);
+  }
+  /// Clearance lower bound (units of h / 4) of the cell containing the point at padded voxel
+  /// coordinates u (u = (p_W - padded_origin_W) / h); 0 outside the grid's region.
+  std::uint8_t clearance_units(float ux, float uy, float uz) const {
+    const int cx = static_cast<int>((ux - cell_offset_) * 0.5f + 1.f) - 1;
+    const int cy = static_cast<int>((uy - cell_offset_) * 0.5f + 1.f) - 1;
+    const int cz = static_cast<int>((uz - cell_offset_) * 0.5f + 1.f) - 1;
+    if (static_cast<unsigned>(cx) >= static_cast<unsigned>(cells_.x()) ||
+        static_cast<unsigned>(cy) >= static_cast<unsigned>(cells_.y()) ||
+        static_cast<unsigned>(cz) >= static_cast<unsigned>(cells_.z()))
+      return 0;
+    return clearance_[static_cast<std::size_t>(cx + cells_.x() * (cy + cells_.y() * cz))];
+  }
+
+  /// Reference accessors (slow, for tests): membership of the sets at padded indices; false
+  /// outside the padded array.
+  bool in_occupied(int x, int y, int z) const;
+  bool in_margin(int x, int y, int z) const;  ///< O_m
+  bool in_base(int x, int y, int z) const;
+  bool in_arm(int x, int y, int z) const;
+
+  std::size_t bytes() const;
+
+ private:
+  std::int64_t row(int y, int z) const { return y + static_cast<std::int64_t>(dims_.y()) * z; }
+  void allocate(const OccupancyGrid& grid);
+  bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats);
+  void rebuild_rows(int y0, int y1, int z0, int z1);
+  void rebuild_projection();
+  void rebuild_clearance(const Eigen::Vector3i& cell_lo, const Eigen::Vector3i& cell_hi);
+  bool outside_base_row(int y, int z) const;
+  bool outside_arm_row(int y, int z) const;
+
+  MapKernelSettings settings_;
+  int pad_ = 1;
+  int base_layers_ = 1;
+  int margin_voxels_ = 0;
+  std::vector<int> margin_half_width_;  ///< x half-width per (dy, dz), -1 when none; (2k+1)^2
+  double res_ = 0.0;
+  Eigen::Vector3d grid_origin_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d padded_origin_W_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3i grid_dims_ = Eigen::Vector3i::Zero();
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  int ground_ = 0;
+  std::int64_t words_per_row_ = 0, row_bits_ = 0;
+  std::vector<std::uint64_t> occ_, base_, arm_;  ///< O, base set, arm set (padded rows)
+  std::vector<std::uint64_t> edge_mask_;         ///< one row: bits outside the grid's x range
+  std::vector<std::int32_t> sat_;                ///< (Nx + 1) x (Ny + 1) summed-area table
+  Eigen::Vector3i cells_ = Eigen::Vector3i::Zero();
+  float cell_offset_ = 0.f;  ///< = padding (cells start at the grid)
+  int cap_units_ = 0;
+  std::vector<std::uint8_t> clearance_;
+};
+
+}  // namespace porter::planner

@@ -1,0 +1,98 @@
+#pragma once
+// Self-collision of the planning links (base + mast, arm links, gripper + payload).
+//
+// Definition (what is conservative with respect to what): the configuration is in
+// self-collision when, for some pair of links (a, b) that the model's AllowedCollisionMatrix
+// does not allow, the exact closed geometries of a and b intersect. (The voxel-level alternative,
+// "both touch a common world voxel", is useless here: the Piper's wrist links 4/6 and 5/7 are
+// always within 6-11 mm of each other, so they share voxels in almost every pose.)
+// Pairs that overlap by construction must be allowed by the robot config (allowed_collisions):
+// for the Piper, links 2/4 and 3/5 overlap in every configuration (joints 4 and 5 share an
+// origin), and a model that does not allow them is in self-collision everywhere.
+//
+// How it is checked, per pair, without any joint sampling:
+//   1. Build-time proof: when the relative pose of a and b depends on at most two joints (the
+//      joints a+1..min(b, 6)), a branch-and-bound over those joints' ranges tries to prove that
+//      the pair can never touch: for a joint box it runs, at the box centre, an adaptive octree
+//      (distance-grid lower bounds first, exact signed distances of both links where those do
+//      not decide) showing that no point of b comes within M of a, where M bounds how far a
+//      point of b moves relative to a inside the box: sum over the box's joints of the
+//      half-width times the point's distance from the joint's origin plus twice the global bound
+//      (half-widths times chain radii). Proven pairs are never checked at run time. A pair whose
+//      proof needs more than proof_max_boxes joint boxes, or that touches, stays checked.
+//   2. Run time, every other pair: of the two links, b is the one of smaller volume and a the
+//      other. The centres of the voxels (edge s, link frame of b) that b's geometry meets (solid,
+//      exact rasterization), in a sphere tree, are moved into a's frame; a subtree is skipped when
+//      a's distance grid (link_distance.hpp, a lower bound) proves its sphere farther than
+//      s sqrt(3)/2 from a; a remaining point hits when its exact distance to a's shapes is at
+//      most s sqrt(3)/2. Any point x common to a and b lies in one of those voxels, whose centre
+//      is within s sqrt(3)/2 of x and hence of a: no overlap is missed.
+//      A reported pair is at most s sqrt(3) + 0.1 mm apart (inflation_bound_m(); the 0.1 mm
+//      covers float32 rounding of poses and points).
+//
+// Frames: link frames in the base frame B (ArmPoses::T_B_L). Units: metres.
+// Thread-safety: immutable after construction; concurrent check() calls are safe.
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "porter/core/robot_model.hpp"
+#include "porter/planner/collision/collision_checker.hpp"
+#include "porter/planner/collision/kernel_kinematics.hpp"
+#include "porter/planner/collision/link_distance.hpp"
+#include "porter/planner/collision/point_tree.hpp"
+
+namespace porter::planner {
+
+struct SelfCollisionSettings {
+  /// Voxel edge s of the link rasters: run-time samples and distance grids (m). Inflation bound
+  /// s sqrt(3).
+  double sample_spacing_m = 0.01;
+  /// Try the build-time proofs (pairs moved by at most two joints).
+  bool prove_pairs = true;
+  /// Joint boxes examined per pair before giving up on a proof.
+  int proof_max_boxes = 3000;
+  /// Smallest octree cell half-size of a proof (m); a pair closer than about this is not proven.
+  double proof_min_cell_m = 0.0005;
+};
+
+enum class PairStatus {
+  kAllowed,     ///< allowed by the model: never checked
+  kProvenFree,  ///< proven at build time never to touch: never checked
+  kChecked,     ///< checked at run time
+};
+
+class SelfCollisionChecker {
+ public:
+  SelfCollisionChecker(const RobotModel& model, const SelfCollisionSettings& settings);
+
+  /// First non-allowed pair found touching: link = a, other_link = b (a < b).
+  CollisionResult check(const ArmPoses& poses) const;
+
+  PairStatus pair_status(int a, int b) const {
+    return status_[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
+  }
+  int num_checked_pairs() const { return static_cast<int>(pairs_.size()); }
+  double inflation_bound_m() const { return 2.0 * static_cast<double>(threshold_m_); }
+  /// Signed distance to link `link`'s exact geometry (link frame), as used by the check.
+  const LinkDistance& link_distance(int link) const { return links_[static_cast<std::size_t>(link)]; }
+  std::size_t bytes() const;
+
+ private:
+  bool prove_separated(const RobotModel& model, int a, int b) const;
+
+  SelfCollisionSettings settings_;
+  std::array<LinkDistance, kNumLinks> links_;
+  std::array<DistanceGrid, kNumLinks> grids_;
+  std::array<Eigen::Vector3f, kNumLinks> sphere_centre_{};  ///< link bounding spheres (link frame)
+  std::array<float, kNumLinks> sphere_radius_{};
+  PointTreePool samples_;  ///< tree k = samples of link k (link frame)
+  std::array<std::array<PairStatus, kNumLinks>, kNumLinks> status_{};
+  std::vector<std::array<int, 2>> pairs_;  ///< checked pairs {grid link, sampled link}, in check order
+  std::vector<float> pair_reach2_;         ///< squared sum of the pair's sphere radii + threshold
+  float threshold_m_ = 0.f;
+  ChainRadii radii_;
+};
+
+}  // namespace porter::planner

@@ -1,0 +1,162 @@
+#include "porter/planner/collision/kernel_collision_checker.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace porter::planner {
+
+namespace {
+
+CollisionResult hit(int link, int other = -1) {
+  CollisionResult r;
+  r.in_collision = true;
+  r.link = link;
+  r.other_link = other;
+  return r;
+}
+
+/// Link order of the environment check: payload first, then down the chain.
+constexpr int kArmOrder[] = {7, 6, 5, 4, 3, 2, 1};
+
+}  // namespace
+
+KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const KernelCheckerSettings& settings)
+    : settings_(settings),
+      kernels_(model, settings.kernels),
+      kinematics_(model),
+      self_(model, settings.self),
+      map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers()),
+      motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {}
+
+void KernelCollisionChecker::set_map(const OccupancyGrid& occupancy_W) {
+  const double h = kernels_.resolution_m();
+  if (std::abs(occupancy_W.resolution_m() - h) > 1e-9 * h)
+    throw std::invalid_argument("KernelCollisionChecker: map resolution " + std::to_string(occupancy_W.resolution_m()) +
+                                " differs from the kernel resolution " + std::to_string(h));
+  last_update_ = map_.set_map(occupancy_W);
+}
+
+bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
+  const std::array<int, 4>& fp = kernels_.base_footprint();
+  if (map_.base_columns_set(bx + fp[0], by + fp[2], bx + fp[1], by + fp[3]) == 0) return false;
+  const int g = map_.ground_layer();
+  std::size_t n = 0;
+  const BaseKernelTile* tiles = kernels_.base_tiles(yaw_sample, &n);
+  const BaseKernelRow* rows = kernels_.base_rows();
+  for (std::size_t t = 0; t < n; ++t) {
+    const BaseKernelTile& tile = tiles[t];
+    if (map_.base_columns_set(bx + tile.dx_lo, by + tile.dy_lo, bx + tile.dx_hi, by + tile.dy_hi) == 0) continue;
+    for (std::uint32_t r = tile.row_begin; r < tile.row_end; ++r) {
+      const BaseKernelRow& row = rows[r];
+      if (map_.base_window(bx + row.dx0, by + row.dy, g + row.dz) & row.mask) return true;
+    }
+  }
+  return false;
+}
+
+bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B, const Pose4f& T_B_J) const {
+  const float units_per_voxel = 4.f;  // clearance units are h / 4; T_V_J maps metres to voxels
+  const float scale = static_cast<float>(units_per_voxel / kernels_.resolution_m());
+  const MapKernel& map = map_;
+  const PointTreePool& pool = kernels_.link_pool(link);
+  if (pool.tree_begin(sample) == pool.tree_end(sample)) return false;
+  // The root sphere first, without composing the full transform (most links are clear).
+  const PointTreeNode& root = pool.nodes()[pool.tree_begin(sample)];
+  const v4f c_B = T_B_J.apply(root.cx, root.cy, root.cz);
+  const v4f c_V = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
+  if (root.radius_m * scale < static_cast<float>(map.clearance_units(c_V[0], c_V[1], c_V[2]))) return false;
+  const Pose4f T_V_J = T_V_B * T_B_J;
+  return point_tree_any(
+      pool, sample,
+      [&](const PointTreeNode& n) {
+        const v4f u = T_V_J.apply(n.cx, n.cy, n.cz);
+        return n.radius_m * scale < static_cast<float>(map.clearance_units(u[0], u[1], u[2]));
+      },
+      [&](float x, float y, float z) {
+        const v4f u = T_V_J.apply(x, y, z);
+        return map.arm_bit(static_cast<int>(u[0]), static_cast<int>(u[1]), static_cast<int>(u[2]));
+      },
+      true);
+}
+
+CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration& config, bool environment,
+                                                       bool self) const {
+  if (!map_.has_map() && environment) return hit(0);
+  std::array<int, kNumLinks> sample{};  // nearest kernel sample per arm joint (index = link)
+  for (int j = 1; j <= kNumArmJoints; ++j) {
+    sample[static_cast<std::size_t>(j)] = kernels_.joint_sample(j, config.q_rad[j - 1]);
+    if (sample[static_cast<std::size_t>(j)] < 0) return hit(j);
+  }
+  ArmPoses poses;
+  kinematics_.compute(config.q_rad, poses);
+  if (environment) {
+    const BasePose& base = config.base;
+    const double inv_h = 1.0 / kernels_.resolution_m();
+    const double ux = (base.x_m - map_.padded_origin_W().x()) * inv_h;
+    const double uy = (base.y_m - map_.padded_origin_W().y()) * inv_h;
+    const int P = map_.padding();
+    // NaN fails both comparisons and lands here too.
+    if (!(ux >= P && ux < P + map_.grid_dims().x() && uy >= P && uy < P + map_.grid_dims().y()) ||
+        !std::isfinite(base.yaw_rad))
+      return hit(0);
+    const int bx = static_cast<int>(ux), by = static_cast<int>(uy);
+    if (base_hit(bx, by, kernels_.base_sample(base.yaw_rad))) return hit(0);
+    // Base frame -> padded voxel coordinates of the map kernel: u = (T_W_B p - corner) / h. The
+    // large world offset is subtracted in double before rounding to float.
+    float sy = 0.f, cy = 1.f;
+    fast_sincos(base.yaw_rad, &sy, &cy);
+    Pose4f T_V_B;
+    const float c = cy * static_cast<float>(inv_h), s = sy * static_cast<float>(inv_h);
+    T_V_B.c0 = v4f{c, s, 0.f, 0.f};
+    T_V_B.c1 = v4f{-s, c, 0.f, 0.f};
+    T_V_B.c2 = v4f{0.f, 0.f, static_cast<float>(inv_h), 0.f};
+    T_V_B.t = v4f{static_cast<float>(ux), static_cast<float>(uy),
+                  static_cast<float>(-map_.padded_origin_W().z() * inv_h), 0.f};
+    for (int link : kArmOrder) {
+      const auto l = static_cast<std::size_t>(link);
+      if (link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
+    }
+  }
+  if (self && settings_.check_self_collision) return self_.check(poses);
+  return CollisionResult{};
+}
+
+CollisionResult KernelCollisionChecker::check(const RobotConfiguration& config) const {
+  return check_prepared(config, true, true);
+}
+
+CollisionResult KernelCollisionChecker::check_environment(const RobotConfiguration& config) const {
+  return check_prepared(config, true, false);
+}
+
+CollisionResult KernelCollisionChecker::check_self(const JointVector& q_rad) const {
+  for (int j = 1; j <= kNumArmJoints; ++j)
+    if (kernels_.joint_sample(j, q_rad[j - 1]) < 0) return hit(j);
+  ArmPoses poses;
+  kinematics_.compute(q_rad, poses);
+  return self_.check(poses);
+}
+
+CollisionResult KernelCollisionChecker::check_base(const BasePose& base) const {
+  if (!map_.has_map()) return hit(0);
+  const double inv_h = 1.0 / kernels_.resolution_m();
+  const double ux = (base.x_m - map_.padded_origin_W().x()) * inv_h;
+  const double uy = (base.y_m - map_.padded_origin_W().y()) * inv_h;
+  const int P = map_.padding();
+  if (!(ux >= P && ux < P + map_.grid_dims().x() && uy >= P && uy < P + map_.grid_dims().y()) ||
+      !std::isfinite(base.yaw_rad))
+    return hit(0);
+  if (base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(base.yaw_rad))) return hit(0);
+  return CollisionResult{};
+}
+
+KernelStorage KernelCollisionChecker::storage() const {
+  KernelStorage s;
+  s.kernel_count = kernels_.kernel_count();
+  s.robot_kernel_bytes = kernels_.bytes();
+  s.self_collision_bytes = self_.bytes();
+  s.map_kernel_bytes = map_.bytes();
+  return s;
+}
+
+}  // namespace porter::planner

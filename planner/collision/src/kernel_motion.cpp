@@ -1,0 +1,136 @@
+// Motion and trajectory checks of KernelCollisionChecker (sampling bounds in its header).
+#include <algorithm>
+#include <cmath>
+
+#include "porter/core/trajectory.hpp"
+#include "porter/planner/collision/kernel_collision_checker.hpp"
+
+namespace porter::planner {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+double wrap_pi(double a) {
+  a = std::fmod(a + kPi, 2.0 * kPi);
+  if (a < 0.0) a += 2.0 * kPi;
+  return a - kPi;
+}
+
+RobotConfiguration interpolate(const RobotConfiguration& a, const RobotConfiguration& b, double dyaw, double s) {
+  RobotConfiguration c;
+  c.base.x_m = a.base.x_m + s * (b.base.x_m - a.base.x_m);
+  c.base.y_m = a.base.y_m + s * (b.base.y_m - a.base.y_m);
+  c.base.yaw_rad = a.base.yaw_rad + s * dyaw;
+  c.q_rad = a.q_rad + s * (b.q_rad - a.q_rad);
+  return c;
+}
+
+/// Bound on how far any robot point moves for a change (dxy, dyaw, dq).
+double displacement_bound(const ChainRadii& radii, double dxy, double dyaw, const JointVector& dq) {
+  double d = dxy + radii.reach_m * std::abs(dyaw);
+  for (int j = 0; j < kNumArmJoints; ++j) d += radii.sweep_radius_m[static_cast<std::size_t>(j)] * std::abs(dq[j]);
+  return d;
+}
+
+}  // namespace
+
+int KernelCollisionChecker::motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const {
+  const double dxy = std::hypot(to.base.x_m - from.base.x_m, to.base.y_m - from.base.y_m);
+  const double dyaw = wrap_pi(to.base.yaw_rad - from.base.yaw_rad);
+  const double d = displacement_bound(kernels_.radii(), dxy, dyaw, to.q_rad - from.q_rad);
+  if (!std::isfinite(d)) return -1;
+  const double n = std::ceil(d / motion_step_m_);
+  return static_cast<int>(std::min(std::max(n, 1.0), 1e8));
+}
+
+CollisionResult KernelCollisionChecker::check_motion(const RobotConfiguration& from,
+                                                     const RobotConfiguration& to) const {
+  const int n = motion_intervals(from, to);
+  if (n < 0) {  // NaN or infinite input
+    CollisionResult r;
+    r.in_collision = true;
+    r.link = 0;
+    return r;
+  }
+  const double dyaw = wrap_pi(to.base.yaw_rad - from.base.yaw_rad);
+  CollisionResult r = check(from);
+  if (r) return r;
+  r = check(to);
+  if (r) return r;
+  // Interior samples i = 1..n-1 in bisection order: odd multiples of the largest power of two
+  // below n first, then of half that, and so on; each index is visited once.
+  int stride = 1;
+  while (stride * 2 < n) stride *= 2;
+  for (; stride >= 1; stride /= 2)
+    for (int i = stride; i < n; i += 2 * stride) {
+      r = check(interpolate(from, to, dyaw, static_cast<double>(i) / n));
+      if (r) return r;
+    }
+  return r;
+}
+
+CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& trajectory) const {
+  const ChainRadii& radii = kernels_.radii();
+  const double half_step = 0.5 * motion_step_m_;
+  auto config_at = [&](double t) {
+    RobotConfiguration c;
+    const TrajVector z = trajectory.position(t);
+    c.base.x_m = z[0];
+    c.base.y_m = z[1];
+    c.base.yaw_rad = trajectory.yaw_rad(t);
+    c.q_rad = z.tail<kNumArmJoints>();
+    return c;
+  };
+  CollisionResult r;
+  RobotConfiguration prev = config_at(0.0);
+  r = check(prev);
+  if (r) return r;
+  double t_prev = 0.0;
+  for (int i = 0; i < trajectory.num_pieces(); ++i) {
+    const TrajectoryPiece& piece = trajectory.piece(i);
+    const double T = piece.duration_s;
+    // |dz_d/dt| <= sum_k k |c_kd| T^(k-1) over the piece.
+    TrajVector vmax = TrajVector::Zero();
+    double tk = 1.0;
+    for (int k = 1; k < kTrajNumCoeffs; ++k) {
+      vmax += (k * tk) * piece.coeffs.row(k).transpose().cwiseAbs();
+      tk *= T;
+    }
+    double speed = std::hypot(vmax[0], vmax[1]);
+    for (int j = 0; j < kNumArmJoints; ++j) speed += radii.sweep_radius_m[static_cast<std::size_t>(j)] * vmax[2 + j];
+    const double n_lin = speed > 0.0 ? std::ceil(speed * T / half_step) : 1.0;
+    const int n = static_cast<int>(std::min(std::max(n_lin, 1.0), 1e7));
+    const double t0 = trajectory.piece_start_time_s(i);
+    for (int k = 1; k <= n; ++k) {
+      const double t = (k == n) ? trajectory.piece_start_time_s(i + 1) : t0 + T * k / n;
+      // Halve [t_prev, t] while the heading change moves a point more than half a step.
+      RobotConfiguration next = config_at(t);
+      double t_lo = t_prev, t_hi = t;
+      RobotConfiguration lo = prev, hi = next;
+      int depth = 0;
+      while (true) {
+        const double dyaw = std::abs(wrap_pi(hi.base.yaw_rad - lo.base.yaw_rad));
+        if (radii.reach_m * dyaw <= half_step || depth >= 20) {
+          r = check(hi);
+          if (r) return r;
+          if (t_hi >= t) break;
+          t_lo = t_hi;
+          lo = hi;
+          t_hi = t;
+          hi = next;
+          depth = 0;
+          continue;
+        }
+        t_hi = 0.5 * (t_lo + t_hi);
+        hi = config_at(t_hi);
+        ++depth;
+      }
+      prev = next;
+      t_prev = t;
+    }
+  }
+  return r;
+}
+
+}  // namespace porter::planner

@@ -1,0 +1,77 @@
+// Derived fields of the map kernel: the base projection's summed-area table and the cell
+// distance field (exact squared Euclidean distance transform, Felzenszwalb & Huttenlocher).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "edt.hpp"
+#include "porter/planner/collision/map_kernel.hpp"
+
+namespace porter::planner {
+
+void MapKernel::rebuild_projection() {
+  const std::int64_t W = words_per_row_;
+  const int z_end = std::min(ground_ + base_layers_, dims_.z());
+  const std::int64_t sx = dims_.x() + 1;
+  std::vector<std::uint64_t> proj(static_cast<std::size_t>(W));
+  for (int y = 0; y < dims_.y(); ++y) {
+    std::fill(proj.begin(), proj.end(), 0);
+    for (int z = std::max(ground_, 0); z < z_end; ++z) {
+      const std::uint64_t* b = &base_[static_cast<std::size_t>(row(y, z) * W)];
+      for (std::int64_t w = 0; w < W; ++w) proj[static_cast<std::size_t>(w)] |= b[w];
+    }
+    std::int32_t run = 0;
+    for (int x = 0; x < dims_.x(); ++x) {
+      run += static_cast<std::int32_t>((proj[static_cast<std::size_t>(x >> 6)] >> (x & 63)) & 1u);
+      sat_[static_cast<std::size_t>((x + 1) + sx * (y + 1))] = sat_[static_cast<std::size_t>((x + 1) + sx * y)] + run;
+    }
+  }
+}
+
+void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen::Vector3i& cell_hi_in) {
+  const Eigen::Vector3i cell_lo = cell_lo_in.cwiseMax(0);
+  const Eigen::Vector3i cell_hi = cell_hi_in.cwiseMin(cells_ - Eigen::Vector3i::Ones());
+  if ((cell_lo.array() > cell_hi.array()).any()) return;
+  // Voxel domain (grid indices): the cells' voxels grown by the cap (+2 for the dilation and
+  // rounding), but never more than 2 voxels beyond the grid: everything outside it is set, so a
+  // ring of it stands for all of it.
+  const int reach = static_cast<int>(std::ceil(cap_units_ / 4.0)) + 2;
+  const Eigen::Vector3i lo = (2 * cell_lo - Eigen::Vector3i::Constant(reach)).cwiseMax(-2);
+  const Eigen::Vector3i hi =
+      (2 * cell_hi + Eigen::Vector3i::Constant(1 + reach)).cwiseMin(grid_dims_ + Eigen::Vector3i::Constant(1));
+  const Eigen::Vector3i n = hi - lo + Eigen::Vector3i::Ones();
+  auto local = [&](int x, int y, int z) {
+    return static_cast<std::size_t>(x) +
+           static_cast<std::size_t>(n.x()) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(n.y()) * z);
+  };
+  std::vector<std::uint8_t> set(static_cast<std::size_t>(n.prod()), 0);
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const Eigen::Vector3i v = lo + Eigen::Vector3i(x, y, z) + Eigen::Vector3i::Constant(pad_);  // padded
+        const bool inside = (v.array() >= 0).all() && (v.array() < dims_.array()).all();
+        set[local(x, y, z)] = !inside || arm_bit(v.x(), v.y(), v.z());
+      }
+  // Centre distance to the 26-dilated set = smallest gap between the voxel's box and a set
+  // voxel's box (exact squared distance transform).
+  edt::dilate26(set, n.x(), n.y(), n.z());
+  std::vector<std::int32_t> d2;
+  edt::squared_distance_3d(set, n.x(), n.y(), n.z(), d2);
+  // A cell's value: the smallest gap of its 2 x 2 x 2 voxels, in units of h / 4, rounded down.
+  for (int cz = cell_lo.z(); cz <= cell_hi.z(); ++cz)
+    for (int cy = cell_lo.y(); cy <= cell_hi.y(); ++cy)
+      for (int cx = cell_lo.x(); cx <= cell_hi.x(); ++cx) {
+        std::int32_t q = edt::kFar;
+        for (int k = 0; k < 8; ++k) {
+          const int x = 2 * cx + (k & 1) - lo.x(), y = 2 * cy + ((k >> 1) & 1) - lo.y(), z = 2 * cz + (k >> 2) - lo.z();
+          q = std::min(q, d2[local(x, y, z)]);
+        }
+        const double units = 4.0 * std::sqrt(static_cast<double>(q));
+        const int value = std::min(cap_units_, static_cast<int>(std::floor(units)));
+        clearance_[static_cast<std::size_t>(cx + cells_.x() * (cy + cells_.y() * static_cast<std::int64_t>(cz)))] =
+            static_cast<std::uint8_t>(value);
+      }
+}
+
+}  // namespace porter::planner

@@ -1,0 +1,73 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "collision_test_utils.hpp"
+#include "porter/core/kinematics.hpp"
+#include "porter/planner/collision/kernel_kinematics.hpp"
+
+namespace porter::planner {
+namespace {
+
+TEST(FastSinCos, MatchesStdWithinFloatPrecision) {
+  for (double x = -50.0; x <= 50.0; x += 0.0137) {
+    float s = 0, c = 0;
+    fast_sincos(x, &s, &c);
+    EXPECT_NEAR(s, std::sin(x), 3e-7) << x;
+    EXPECT_NEAR(c, std::cos(x), 3e-7) << x;
+  }
+  for (double x : {0.0, M_PI / 4, M_PI / 2, M_PI, -M_PI, 1e5 + 0.3}) {
+    float s = 0, c = 0;
+    fast_sincos(x, &s, &c);
+    EXPECT_NEAR(s, std::sin(x), 3e-7) << x;
+    EXPECT_NEAR(c, std::cos(x), 3e-7) << x;
+  }
+}
+
+TEST(KernelKinematics, MatchesCoreForwardKinematics) {
+  const RobotModel model = test::shipped_robot_with("t_bar");
+  const KernelKinematics kin(model);
+  std::mt19937_64 rng(5);
+  for (int i = 0; i < 500; ++i) {
+    RobotConfiguration c;
+    c.q_rad = test::random_joints(model, rng);
+    KinematicsWorkspace ws;
+    forward_kinematics(model, c, ws);
+    ArmPoses poses;
+    kin.compute(c.q_rad, poses);
+    for (int j = 0; j < kNumLinks; ++j) {
+      EXPECT_TRUE(poses.T_B_L[static_cast<std::size_t>(j)].isometry().matrix().isApprox(
+          ws.T_W_L[static_cast<std::size_t>(j)].matrix(), 1e-5));
+      EXPECT_LT((poses.T_B_J[static_cast<std::size_t>(j)].isometry().matrix() -
+                 ws.T_W_J[static_cast<std::size_t>(j)].matrix())
+                    .cwiseAbs()
+                    .maxCoeff(),
+                2e-6);
+    }
+  }
+}
+
+TEST(ChainRadii, BoundEveryLinkPointOverRandomConfigurations) {
+  const RobotModel model = test::shipped_robot_with("arc");
+  const ChainRadii radii = compute_chain_radii(model);
+  std::mt19937_64 rng(6);
+  for (int i = 0; i < 300; ++i) {
+    RobotConfiguration c;
+    c.q_rad = test::random_joints(model, rng);
+    KinematicsWorkspace ws;
+    forward_kinematics(model, c, ws);
+    for (int k = 0; k < kNumLinks; ++k)
+      for (const auto& s : model.links[static_cast<std::size_t>(k)].shapes) {
+        CollisionShape sw = s;
+        sw.T_parent_shape = ws.T_W_L[static_cast<std::size_t>(k)] * s.T_parent_shape;
+        EXPECT_LE(shape_max_distance(sw, Eigen::Vector3d::Zero()), radii.reach_m + 1e-9);
+        for (int j = 1; j <= std::min(k, kNumArmJoints); ++j)
+          EXPECT_LE(shape_max_distance(sw, ws.origin_W[static_cast<std::size_t>(j - 1)]),
+                    radii.sweep_radius_m[static_cast<std::size_t>(j - 1)] + 1e-9);
+      }
+  }
+}
+
+}  // namespace
+}  // namespace porter::planner

@@ -1,0 +1,154 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include "collision_test_utils.hpp"
+#include "porter/planner/collision/map_kernel.hpp"
+#include "reference_collision.hpp"
+
+namespace porter::planner {
+namespace {
+
+OccupancyGrid random_grid(const Eigen::Vector3d& origin, double h, const Eigen::Vector3i& dims, double fill,
+                          std::uint64_t seed) {
+  OccupancyGrid g(origin, h, dims);
+  std::mt19937_64 rng(seed);
+  for (int z = 0; z < dims.z(); ++z)
+    for (int y = 0; y < dims.y(); ++y)
+      for (int x = 0; x < dims.x(); ++x)
+        if (test::uniform(rng, 0, 1) < fill) g.set(x, y, z);
+  return g;
+}
+
+/// Every padded voxel of both sets equals the definition (reference flagged(), brute force).
+void expect_sets_match_definition(const MapKernel& mk, const test::ReferenceEnvironment& ref) {
+  const int P = mk.padding();
+  const Eigen::Vector3i n = mk.padded_dims();
+  int arm_set = 0;
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const Eigen::Vector3i idx(x - P, y - P, z - P);
+        ASSERT_EQ(mk.in_base(x, y, z), ref.flagged(idx, true)) << x << " " << y << " " << z;
+        bool arm = false;
+        for (int k = 0; k < 27 && !arm; ++k)
+          arm = ref.flagged(idx + Eigen::Vector3i(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1), false);
+        ASSERT_EQ(mk.in_arm(x, y, z), arm) << x << " " << y << " " << z;
+        arm_set += arm;
+        if ((idx.array() >= 0).all() && (idx.array() < ref.grid().dims().array()).all()) {
+          ASSERT_EQ(mk.in_margin(x, y, z), ref.in_margin_set(idx));
+        }
+      }
+  EXPECT_GT(arm_set, 0);
+}
+
+TEST(MapKernel, SetsMatchTheirDefinitionForSeveralMargins) {
+  const OccupancyGrid grid = random_grid({0.3, -0.2, 0.0}, 0.1, {23, 9, 7}, 0.01, 1);
+  for (double margin : {0.0, 0.05, 0.1, 0.15, 0.25}) {
+    MapKernelSettings s;
+    s.safety_margin_m = margin;
+    MapKernel mk(s, 3, 4);
+    mk.set_map(grid);
+    EXPECT_EQ(mk.padded_dims(), Eigen::Vector3i(29, 15, 13));
+    EXPECT_EQ(mk.ground_layer(), 3);
+    expect_sets_match_definition(mk, test::ReferenceEnvironment(grid, margin));
+  }
+}
+
+TEST(MapKernel, GroundBelowAndAboveTheGridBottom) {
+  // Grid reaching 0.2 m below the ground: those layers are ground for the arm, free for the base.
+  const OccupancyGrid below = random_grid({0.0, 0.0, -0.2}, 0.1, {70, 5, 6}, 0.02, 2);
+  MapKernel a({}, 2, 3);
+  a.set_map(below);
+  EXPECT_EQ(a.ground_layer(), 4);
+  expect_sets_match_definition(a, test::ReferenceEnvironment(below, 0.0));
+  // Grid starting 0.2 m above the ground: the layers in between are outside the map.
+  const OccupancyGrid above = random_grid({0.0, 0.0, 0.2}, 0.1, {70, 5, 6}, 0.02, 3);
+  MapKernel b({}, 3, 3);
+  b.set_map(above);
+  EXPECT_EQ(b.ground_layer(), 1);
+  expect_sets_match_definition(b, test::ReferenceEnvironment(above, 0.0));
+  // Ground not on a voxel boundary.
+  EXPECT_THROW(b.set_map(OccupancyGrid({0, 0, 0.03}, 0.1, {4, 4, 4})), std::invalid_argument);
+  EXPECT_THROW(b.set_map(OccupancyGrid()), std::invalid_argument);
+  EXPECT_THROW(MapKernel({}, 0, 3), std::invalid_argument);
+}
+
+TEST(MapKernel, PaddingIsOccupiedOnEverySideForTheArm) {
+  const OccupancyGrid empty({-1.0, -1.0, 0.0}, 0.05, {40, 40, 40});
+  MapKernel mk({}, 5, 8);
+  mk.set_map(empty);
+  const Eigen::Vector3i n = mk.padded_dims();
+  // Inner voxels at least one voxel away from the grid's faces are free; the ring next to a
+  // face, the padding and everything below the ground are set.
+  for (int x = 0; x < n.x(); ++x) {
+    const bool inner_x = x >= 5 + 1 && x < 5 + 40 - 1;
+    EXPECT_EQ(mk.in_arm(x, 25, 25), !inner_x) << x;
+    EXPECT_EQ(mk.in_base(x, 25, 25), !(x >= 5 && x < 45)) << x;
+  }
+  for (int z = 0; z < n.z(); ++z) {
+    EXPECT_EQ(mk.in_arm(25, 25, z), !(z >= 6 && z < 44)) << z;
+    EXPECT_EQ(mk.in_base(25, 25, z), z >= 45) << z;  // the base ignores the ground
+  }
+}
+
+TEST(MapKernel, BaseColumnCountsMatchBruteForce) {
+  const OccupancyGrid grid = random_grid({0.0, 0.0, 0.0}, 0.1, {31, 17, 9}, 0.01, 4);
+  MapKernel mk({}, 4, 3);
+  mk.set_map(grid);
+  std::mt19937_64 rng(5);
+  const Eigen::Vector3i n = mk.padded_dims();
+  for (int i = 0; i < 2000; ++i) {
+    int x0 = static_cast<int>(test::uniform(rng, 0, n.x())), x1 = static_cast<int>(test::uniform(rng, 0, n.x()));
+    int y0 = static_cast<int>(test::uniform(rng, 0, n.y())), y1 = static_cast<int>(test::uniform(rng, 0, n.y()));
+    if (x0 > x1) std::swap(x0, x1);
+    if (y0 > y1) std::swap(y0, y1);
+    std::int64_t count = 0;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        bool any = false;
+        for (int z = mk.ground_layer(); z < mk.ground_layer() + 3; ++z) any = any || mk.in_base(x, y, z);
+        count += any;
+      }
+    ASSERT_EQ(mk.base_columns_set(x0, y0, x1, y1), count);
+  }
+}
+
+TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheArmSet) {
+  const OccupancyGrid grid = random_grid({0.0, 0.0, 0.0}, 0.1, {30, 24, 16}, 0.002, 6);
+  MapKernelSettings s;
+  s.distance_cap_m = 0.8;
+  MapKernel mk(s, 3, 3);
+  mk.set_map(grid);
+  std::vector<Eigen::Vector3i> arm;
+  const Eigen::Vector3i n = mk.padded_dims();
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x)
+        if (mk.in_arm(x, y, z)) arm.emplace_back(x, y, z);
+  std::mt19937_64 rng(7);
+  int positive = 0;
+  for (int i = 0; i < 3000; ++i) {
+    // Mostly inside the grid, some in the padding.
+    const Eigen::Vector3f u(static_cast<float>(test::uniform(rng, 1, n.x() - 1)),
+                            static_cast<float>(test::uniform(rng, 1, n.y() - 1)),
+                            static_cast<float>(test::uniform(rng, 1, n.z() - 1)));
+    const double bound_voxels = mk.clearance_units(u.x(), u.y(), u.z()) / 4.0;
+    positive += bound_voxels > 0;
+    double best = 1e9;  // distance (voxels) from u to the nearest arm-set voxel box
+    for (const auto& v : arm) {
+      const Eigen::Vector3d d = (v.cast<double>() - u.cast<double>())
+                                    .cwiseMax(u.cast<double>() - v.cast<double>() - Eigen::Vector3d::Ones())
+                                    .cwiseMax(0.0);
+      best = std::min(best, d.norm());
+    }
+    ASSERT_LE(bound_voxels, best + 1e-9) << u.transpose();
+    ASSERT_LE(bound_voxels, 0.8 / 0.1 + 1e-9);
+  }
+  EXPECT_GT(positive, 100);
+}
+
+}  // namespace
+}  // namespace porter::planner
