@@ -1,0 +1,104 @@
+#include "plan_args.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+namespace porter::app {
+
+const char* to_string(Stages s) {
+  switch (s) {
+    case Stages::kFront: return "front";
+    case Stages::kMid: return "mid";
+    case Stages::kFull: return "full";
+  }
+  return "unknown";
+}
+
+std::string plan_usage() {
+  return "usage: porter-plan --scene FILE [--seed N] [--set NAME=VALUE]... [--payload FILE]\n"
+         "                   [--robot FILE] [--stages front|mid|full] [--frontend-budget-ms MS]\n"
+         "                   [--out FILE] [--quiet]\n"
+         "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
+         "  --seed N                seed of the scene's random obstacles and of the planner\n"
+         "                          (default: the scene file's seed)\n"
+         "  --set NAME=VALUE        override a scene parameter (e.g. --set h_b=0.9); repeatable\n"
+         "  --payload FILE          payload YAML replacing the scene's\n"
+         "  --robot FILE            robot.yaml (default: the shipped Scout Mini + Piper)\n"
+         "  --stages S              front (path search only), mid (+ MINCO mid-end), full (+ back-end)\n"
+         "  --frontend-budget-ms MS front-end time budget (default 1000)\n"
+         "  --out FILE              write the JSON result there\n"
+         "  --quiet                 print nothing on success\n"
+         "exit codes: 0 success, 1 planning failed, 2 bad arguments, 3 unreadable/invalid file or\n"
+         "            unwritable output, 4 invalid start or goal, 5 stage not available\n";
+}
+
+namespace {
+
+double parse_number(const std::string& flag, const std::string& text) {
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || !std::isfinite(v))
+    throw ArgsError(flag + ": '" + text + "' is not a finite number");
+  return v;
+}
+
+std::uint64_t parse_seed(const std::string& text) {
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos)
+    throw ArgsError("--seed: '" + text + "' is not a non-negative integer");
+  errno = 0;
+  const unsigned long long v = std::strtoull(text.c_str(), nullptr, 10);
+  if (errno != 0) throw ArgsError("--seed: '" + text + "' is too large");
+  return static_cast<std::uint64_t>(v);
+}
+
+}  // namespace
+
+PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& default_robot) {
+  PlanArgs a;
+  a.robot_path = default_robot;
+  for (int i = 1; i < argc; ++i) {
+    const std::string flag = argv[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= argc) throw ArgsError(flag + " needs a value");
+      return argv[++i];
+    };
+    if (flag == "--help" || flag == "-h") {
+      a.help = true;
+    } else if (flag == "--scene") {
+      a.scene_path = value();
+    } else if (flag == "--seed") {
+      a.seed = parse_seed(value());
+      a.seed_given = true;
+    } else if (flag == "--set") {
+      const std::string kv = value();
+      const auto eq = kv.find('=');
+      if (eq == std::string::npos || eq == 0) throw ArgsError("--set: expected NAME=VALUE, got '" + kv + "'");
+      a.overrides[kv.substr(0, eq)] = parse_number("--set " + kv.substr(0, eq), kv.substr(eq + 1));
+    } else if (flag == "--payload") {
+      a.payload_path = value();
+    } else if (flag == "--robot") {
+      a.robot_path = value();
+    } else if (flag == "--stages") {
+      const std::string s = value();
+      if (s == "front") a.stages = Stages::kFront;
+      else if (s == "mid") a.stages = Stages::kMid;
+      else if (s == "full") a.stages = Stages::kFull;
+      else throw ArgsError("--stages: expected front, mid or full, got '" + s + "'");
+    } else if (flag == "--frontend-budget-ms") {
+      a.frontend_budget_ms = parse_number(flag, value());
+      if (!(a.frontend_budget_ms > 0.0)) throw ArgsError("--frontend-budget-ms must be > 0");
+    } else if (flag == "--out") {
+      a.out_path = value();
+    } else if (flag == "--quiet") {
+      a.quiet = true;
+    } else {
+      throw ArgsError("unknown argument '" + flag + "'");
+    }
+  }
+  if (!a.help && a.scene_path.empty()) throw ArgsError("--scene is required");
+  return a;
+}
+
+}  // namespace porter::app

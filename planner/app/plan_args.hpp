@@ -1,0 +1,40 @@
+#pragma once
+// Command-line arguments of porter-plan (see README.md beside this file). Parsing never exits or
+// prints; a bad argument throws ArgsError with a message for the user.
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+namespace porter::app {
+
+struct ArgsError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class Stages { kFront, kMid, kFull };
+const char* to_string(Stages s);
+
+struct PlanArgs {
+  std::string scene_path;
+  std::uint64_t seed = 0;
+  bool seed_given = false;                  ///< false: the scene file's seed is used
+  std::map<std::string, double> overrides;  ///< --set NAME=VALUE
+  std::optional<std::string> payload_path;  ///< replaces the scene's payload
+  std::string robot_path;                   ///< robot.yaml
+  Stages stages = Stages::kFront;
+  double frontend_budget_ms = 1000.0;
+  std::optional<std::string> out_path;
+  bool quiet = false;
+  bool help = false;
+};
+
+/// Parses argv[1..argc-1]. `default_robot` is used when --robot is absent.
+PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& default_robot);
+
+/// The usage text.
+std::string plan_usage();
+
+}  // namespace porter::app

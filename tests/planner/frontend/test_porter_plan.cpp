@@ -1,0 +1,127 @@
+// porter-plan end to end: exit codes for bad arguments, unreadable files, unavailable stages and
+// invalid starts, and the JSON result of a successful plan.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "frontend_test_utils.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class PorterPlan : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("porter_plan_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    // A copy of the shipped robot config (URDF path made absolute), for --robot.
+    std::ifstream in(porter::test::robot_yaml());
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string robot = text.str();
+    const std::string key = "urdf: scout_mini_piper.urdf";
+    robot.replace(robot.find(key), key.size(),
+                  "urdf: " + porter::test::source_dir() + "/config/robots/scout_mini_piper/scout_mini_piper.urdf");
+    std::ofstream(dir_ / "robot.yaml") << robot;
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  int run(const std::string& args) const {
+    const std::string cmd = std::string(PORTER_PLAN_EXE) + " " + args + " > " + (dir_ / "stdout.txt").string() + " 2> " +
+                            (dir_ / "stderr.txt").string();
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string file(const std::string& name) const {
+    std::ifstream in(dir_ / name);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  std::string robot() const { return (dir_ / "robot.yaml").string(); }
+  std::string scene(const std::string& name) const { return porter::test::scene_yaml(name); }
+
+  fs::path dir_;
+};
+
+TEST_F(PorterPlan, BadArgumentsAreExitCode2) {
+  EXPECT_EQ(run(""), 2);
+  EXPECT_NE(file("stderr.txt").find("--scene is required"), std::string::npos);
+  EXPECT_EQ(run("--scene " + scene("empty") + " --seed -3"), 2);
+  EXPECT_EQ(run("--scene " + scene("empty") + " --frontend-budget-ms 0"), 2);
+  EXPECT_EQ(run("--scene " + scene("empty") + " --set h_b"), 2);
+  EXPECT_EQ(run("--scene " + scene("empty") + " --stages back"), 2);
+  EXPECT_EQ(run("--help"), 0);
+}
+
+TEST_F(PorterPlan, UnreadableFilesAreExitCode3) {
+  EXPECT_EQ(run("--scene " + (dir_ / "missing.yaml").string()), 3);
+  EXPECT_NE(file("stderr.txt").find("missing.yaml"), std::string::npos);
+  EXPECT_EQ(run("--scene " + scene("bridge") + " --set no_such_parameter=1"), 3);
+  EXPECT_EQ(run("--scene " + scene("empty") + " --robot " + (dir_ / "nope.yaml").string()), 3);
+}
+
+TEST_F(PorterPlan, MidStageWritesTheTrajectoryAndTheDirectExecutionDecision) {
+  EXPECT_EQ(run("--scene " + scene("empty") + " --stages mid --out " + (dir_ / "r.json").string()), 0);
+  const auto doc = nlohmann::json::parse(file("r.json"));
+  EXPECT_EQ(doc["exit_code"], 0);
+  ASSERT_TRUE(doc["midend"].is_object());
+  EXPECT_GT(doc["midend"]["iterations"].get<int>(), 0);
+  ASSERT_TRUE(doc["trajectory"].is_object());
+  EXPECT_EQ(doc["trajectory"]["pieces"].size(), doc["midend"]["num_pieces"].get<std::size_t>());
+  // In the empty scene nothing can collide: the kernel check accepts it for direct execution.
+  EXPECT_TRUE(doc["midend"]["direct_execution"].get<bool>());
+  // With nothing in collision, the full pipeline needs no back-end either.
+  EXPECT_EQ(run("--scene " + scene("empty") + " --stages full"), 0);
+}
+
+TEST_F(PorterPlan, InvalidStartIsExitCode4) {
+  std::ifstream in(scene("empty"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const std::string arm = "start: {base: [0.0, 0.0, 0.0], arm: [0.0, 0.6, -0.9, 0.0, 0.5, 0.0]}";
+  ASSERT_NE(yaml.find(arm), std::string::npos);
+  yaml.replace(yaml.find(arm), arm.size(), "start: {base: [0.0, 0.0, 0.0], arm: [0.0, 3.5, -0.9, 0.0, 0.5, 0.0]}");
+  const std::string payload = "payload: ../payloads/t_bar.yaml";
+  yaml.replace(yaml.find(payload), payload.size(), "payload: " + porter::test::source_dir() + "/config/payloads/t_bar.yaml");
+  std::ofstream(dir_ / "bad_start.yaml") << yaml;
+  EXPECT_EQ(run("--scene " + (dir_ / "bad_start.yaml").string() + " --robot " + robot()), 4);
+  EXPECT_NE(file("stderr.txt").find("joint 2"), std::string::npos) << file("stderr.txt");
+}
+
+TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
+  const std::string out = (dir_ / "r.json").string();
+  ASSERT_EQ(run("--scene " + scene("empty") + " --seed 7 --robot " + robot() + " --frontend-budget-ms 20000 --out " + out), 0)
+      << file("stdout.txt") << file("stderr.txt");
+  EXPECT_EQ(file("stdout.txt").rfind("front-end: success", 0), 0u) << file("stdout.txt");
+  const auto doc = nlohmann::json::parse(file("r.json"));
+  EXPECT_EQ(doc["format"], "porter-plan-result/1");
+  EXPECT_EQ(doc["status"], "success");
+  EXPECT_EQ(doc["scene"]["seed"], 7);
+  EXPECT_EQ(doc["checker"], "kernels");
+  EXPECT_EQ(doc["frontend"]["stages"]["hybrid_astar"]["status"], "success");
+  const auto& path = doc["path"];
+  ASSERT_GE(path["segments"].size(), 1u);
+  const auto& first = path["segments"][0]["nodes"][0];
+  EXPECT_EQ(first["t_s"], 0.0);
+  EXPECT_EQ(first["base"][0], 0.0);
+  EXPECT_EQ(first["q_rad"].size(), 6u);
+  const auto& last_seg = path["segments"][path["segments"].size() - 1];
+  const auto& last = last_seg["nodes"][last_seg["nodes"].size() - 1];
+  EXPECT_NEAR(last["base"][0].get<double>(), 8.0, 1e-9);
+  EXPECT_NEAR(path["duration_s"].get<double>(), last["t_s"].get<double>(), 1e-12);
+  EXPECT_TRUE(doc["trajectory"].is_null());
+}
+
+}  // namespace
