@@ -1,0 +1,81 @@
+#pragma once
+// What one back-end solve returns: the optimizer's status, the trajectory when there is one, the
+// final collision re-check, timing, iteration counts and the cost split. Plain data.
+
+#include <optional>
+#include <string>
+
+#include "porter/backend/backend_problem.hpp"
+#include "porter/core/trajectory.hpp"
+
+namespace porter::backend {
+
+enum class BackendStatus {
+  kConverged,             ///< relative cost decrease below the tolerance (or early safe stop)
+  kConvergedWithWarning,  ///< line search stalled after the cost decreased; last iterate returned
+  kIterationLimit,        ///< iteration cap; last iterate returned
+  kTimeBudgetExceeded,    ///< time budget; last accepted iterate returned
+  kInvalidInput,          ///< bad path, settings or limits; no trajectory
+  kWarmStartMismatch,     ///< the warm start does not have the problem's piece structure
+  kNumericalFailure,      ///< non-finite cost/gradient or singular MINCO; no trajectory
+  kOptimizerFailed,       ///< liblbfgs failed without decreasing the cost; no trajectory
+};
+
+inline const char* to_string(BackendStatus s) {
+  switch (s) {
+    case BackendStatus::kConverged: return "converged";
+    case BackendStatus::kConvergedWithWarning: return "converged with warning (line search stalled after cost decrease)";
+    case BackendStatus::kIterationLimit: return "iteration limit reached";
+    case BackendStatus::kTimeBudgetExceeded: return "time budget exceeded";
+    case BackendStatus::kInvalidInput: return "invalid input";
+    case BackendStatus::kWarmStartMismatch: return "warm start does not match the problem";
+    case BackendStatus::kNumericalFailure: return "numerical failure";
+    case BackendStatus::kOptimizerFailed: return "optimizer failed";
+  }
+  return "unknown";
+}
+
+inline bool has_trajectory(BackendStatus s) {
+  return s == BackendStatus::kConverged || s == BackendStatus::kConvergedWithWarning ||
+         s == BackendStatus::kIterationLimit || s == BackendStatus::kTimeBudgetExceeded;
+}
+
+/// The final re-check by the kernel motion check (CollisionChecker::check_trajectory).
+enum class SafetyCheck { kNotChecked, kCollisionFree, kInCollision };
+
+inline const char* to_string(SafetyCheck c) {
+  switch (c) {
+    case SafetyCheck::kNotChecked: return "not checked";
+    case SafetyCheck::kCollisionFree: return "collision-free";
+    case SafetyCheck::kInCollision: return "in collision";
+  }
+  return "unknown";
+}
+
+struct BackendResult {
+  BackendStatus status = BackendStatus::kInvalidInput;
+  std::string message;
+  std::optional<Trajectory> trajectory;
+  SafetyCheck check = SafetyCheck::kNotChecked;
+  int collision_link = -1;          ///< first link the re-check found in collision
+  std::string safety_term;          ///< SafetyTerm::name()
+
+  double elapsed_s = 0.0;           ///< whole solve(), re-check included
+  double optimize_s = 0.0;          ///< L-BFGS
+  double safety_s = 0.0;            ///< inside SafetyTerm::evaluate (part of optimize_s)
+  double check_s = 0.0;             ///< the re-check
+  int iterations = 0;
+  int evaluations = 0;
+  int lbfgs_code = 0;
+  int num_pieces = 0;
+  int num_variables = 0;
+
+  BackendCost initial_cost;         ///< at the warm start
+  BackendCost final_cost;           ///< at the returned trajectory
+
+  bool ok() const { return has_trajectory(status) && trajectory.has_value(); }
+  /// A trajectory that passed the re-check.
+  bool success() const { return ok() && check == SafetyCheck::kCollisionFree; }
+};
+
+}  // namespace porter::backend

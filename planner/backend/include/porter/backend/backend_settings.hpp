@@ -1,0 +1,40 @@
+#pragma once
+// Parameters of the back-end solve (paper §VI-C). The collision term's own parameters (s_thr,
+// weight, KC-SVSDF sample counts...) belong to the SafetyTerm (svsdf_safety_term.hpp and the
+// baselines). Plain data; every field has the default the planner uses.
+
+#include "porter/midend/midend_settings.hpp"
+
+namespace porter::backend {
+
+struct BackendSettings {
+  /// The mid-end problem the back-end extends. Its transcription, weights, residual bounds and
+  /// path-preparation fields must equal the mid-end's (the warm start is the mid-end's decision
+  /// vector); its solver fields (max_iterations ... default_time_budget_s) are not used here.
+  midend::MidendSettings problem;
+
+  // --- Solver (liblbfgs, as the mid-end) -------------------------------------------------------
+  int max_iterations = 200;               ///< >= 1
+  /// Stop when (f_{k-past} - f_k) / f_k < relative_cost_tolerance. > 0.
+  double relative_cost_tolerance = 1e-5;
+  int relative_cost_past = 3;             ///< >= 1
+  int memory_size = 16;                   ///< [3, 64]
+  int max_line_search = 40;               ///< >= 1
+  /// Backtracking: More-Thuente (the mid-end's choice) often fails its first line search here,
+  /// where a unit of the safety gradient also moves stiff mid-end terms (wheel limits at gear
+  /// switches); backtracking takes the short step instead.
+  midend::LineSearch line_search = midend::LineSearch::kBacktrackingWolfe;
+  /// L-BFGS's first step moves the decision vector by 1 in norm along -g; the solver works on
+  /// y = x / variable_scale, so that first step moves x by variable_scale instead (the mid-end's
+  /// warm start is near a minimum of the smooth terms; a unit step sweeps the trajectory through
+  /// the obstacles and makes the first line search expensive). Later steps are quasi-Newton and
+  /// unaffected. > 0.
+  double variable_scale = 0.05;
+  /// Budget when the caller passes a non-positive one, s (the paper's optimization budget). > 0.
+  double default_time_budget_s = 0.3;
+  /// Stop early once the collision term has been zero for this many consecutive iterations (the
+  /// remaining iterations would only polish smoothness); 0 disables. >= 0.
+  int stop_after_safe_iterations = 0;
+};
+
+}  // namespace porter::backend

@@ -1,0 +1,273 @@
+#include "porter/backend/backend.hpp"
+
+#include <lbfgs.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "porter/midend/lbfgs_codes.hpp"
+#include "porter/midend/midend.hpp"
+#include "porter/midend/reference_path.hpp"
+
+namespace porter::backend {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) {
+  return std::chrono::duration<double>(Clock::now() - t0).count();
+}
+
+struct SolveContext {
+  BackendProblem* problem = nullptr;
+  double scale = 1.0;              ///< x = scale * y (y: the solver's variables)
+  Eigen::VectorXd x;               ///< scratch
+  Clock::time_point start;
+  double budget_s = 0.0;
+  int iterations = 0;
+  int evaluations = 0;
+  double safety_s = 0.0;
+  bool budget_hit = false;
+  int safe_streak = 0;          ///< consecutive iterations with zero collision cost
+  int stop_after_safe = 0;
+  bool stopped_safe = false;
+  double last_safety = 0.0;     ///< J_s at the last evaluation
+  bool expired = false;         ///< the budget ran out inside a line search
+  bool have_initial = false;
+  BackendCost initial;          ///< at the first evaluation (the warm start)
+  double best_f = std::numeric_limits<double>::infinity();
+  BackendCost best;             ///< at the lowest cost evaluated (the returned iterate's, usually)
+  BackendCost cost;
+};
+
+/// What an evaluation reports once the budget is gone: the line search cannot accept a step, so
+/// liblbfgs reverts to the last accepted iterate and stops (an iteration can be long: each
+/// evaluation costs milliseconds and a line search may need several).
+constexpr double kExpiredCost = 1e300;
+
+lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloatval_t* g,
+                            const int n, const lbfgsfloatval_t /*step*/) {
+  auto* ctx = static_cast<SolveContext*>(instance);
+  if (ctx->have_initial && !ctx->expired && seconds_since(ctx->start) >= ctx->budget_s) ctx->expired = true;
+  if (ctx->expired) {
+    if (g) std::fill(g, g + n, 0.0);
+    return kExpiredCost;
+  }
+  ++ctx->evaluations;
+  for (int k = 0; k < n; ++k) ctx->x[k] = ctx->scale * y[k];
+  const double f = ctx->problem->evaluate(ctx->x.data(), g, &ctx->cost);
+  if (g) {
+    for (int k = 0; k < n; ++k) g[k] *= ctx->scale;
+  }
+  ctx->safety_s += ctx->cost.safety_stats.time_s;
+  ctx->last_safety = ctx->cost.safety;
+  if (!ctx->have_initial) {
+    ctx->have_initial = true;
+    ctx->initial = ctx->cost;
+  }
+  if (f < ctx->best_f) {
+    ctx->best_f = f;
+    ctx->best = ctx->cost;
+  }
+  return f;
+}
+
+int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatval_t* /*g*/,
+                const lbfgsfloatval_t /*fx*/, const lbfgsfloatval_t /*xnorm*/,
+                const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int /*n*/, int k,
+                int /*ls*/) {
+  auto* ctx = static_cast<SolveContext*>(instance);
+  ctx->iterations = k;
+  // The last evaluation of an iteration is the accepted point's.
+  ctx->safe_streak = ctx->last_safety == 0.0 ? ctx->safe_streak + 1 : 0;
+  if (ctx->stop_after_safe > 0 && ctx->safe_streak >= ctx->stop_after_safe) {
+    ctx->stopped_safe = true;
+    return 1;
+  }
+  if (seconds_since(ctx->start) >= ctx->budget_s) {
+    ctx->budget_hit = true;
+    return 1;
+  }
+  return 0;
+}
+
+int to_lbfgs_line_search(midend::LineSearch ls) {
+  switch (ls) {
+    case midend::LineSearch::kMoreThuente: return LBFGS_LINESEARCH_MORETHUENTE;
+    case midend::LineSearch::kBacktrackingWolfe: return LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
+    case midend::LineSearch::kBacktrackingStrongWolfe: return LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
+  }
+  return LBFGS_LINESEARCH_DEFAULT;
+}
+
+struct LbfgsBuffer {
+  explicit LbfgsBuffer(int n) : data(lbfgs_malloc(n)) {}
+  ~LbfgsBuffer() { lbfgs_free(data); }
+  LbfgsBuffer(const LbfgsBuffer&) = delete;
+  LbfgsBuffer& operator=(const LbfgsBuffer&) = delete;
+  lbfgsfloatval_t* data;
+};
+
+void finish(BackendResult& r, const planner::CollisionChecker* checker, Clock::time_point start) {
+  if (r.ok() && checker) {
+    const auto t0 = Clock::now();
+    const planner::CollisionResult c = checker->check_trajectory(*r.trajectory);
+    r.check = c.in_collision ? SafetyCheck::kInCollision : SafetyCheck::kCollisionFree;
+    r.collision_link = c.link;
+    r.check_s = seconds_since(t0);
+  }
+  r.elapsed_s = seconds_since(start);
+}
+
+}  // namespace
+
+bool validate_settings(const BackendSettings& s, std::string* why) {
+  auto fail = [why](const char* m) {
+    if (why) *why = m;
+    return false;
+  };
+  std::string inner;
+  if (!midend::validate_settings(s.problem, &inner)) {
+    if (why) *why = "problem: " + inner;
+    return false;
+  }
+  if (s.max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (!(s.relative_cost_tolerance > 0.0) || s.relative_cost_past < 1) return fail("relative cost test needs tolerance > 0 and past >= 1");
+  if (s.memory_size < 3 || s.memory_size > 64) return fail("memory_size not in [3, 64]");
+  if (s.max_line_search < 1) return fail("max_line_search must be >= 1");
+  if (!(s.default_time_budget_s > 0.0) || !std::isfinite(s.default_time_budget_s)) return fail("default_time_budget_s must be > 0");
+  if (s.stop_after_safe_iterations < 0) return fail("stop_after_safe_iterations must be >= 0");
+  if (!(s.variable_scale > 0.0) || !std::isfinite(s.variable_scale)) return fail("variable_scale must be > 0");
+  return true;
+}
+
+BackEnd::BackEnd(const RobotModel& robot, BackendSettings settings)
+    : BackEnd(midend::MidendLimits::from_robot(robot), std::move(settings)) {}
+
+BackEnd::BackEnd(const midend::MidendLimits& limits, BackendSettings settings)
+    : limits_(limits), settings_(std::move(settings)) {}
+
+BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajectory& warm_start,
+                             const OccupancyGrid& map_W, SafetyTerm& safety, double time_budget_s,
+                             const planner::CollisionChecker* checker) const {
+  const auto start = Clock::now();
+  BackendResult r;
+  r.safety_term = safety.name();
+  std::string why;
+  if (!limits_.valid(&why)) {
+    r.message = "robot limits: " + why;
+    finish(r, checker, start);
+    return r;
+  }
+  if (!validate_settings(settings_, &why)) {
+    r.message = "settings: " + why;
+    finish(r, checker, start);
+    return r;
+  }
+  const double budget_s = time_budget_s > 0.0 ? time_budget_s : settings_.default_time_budget_s;
+  midend::ReferenceBuild ref = midend::build_reference_path(path, limits_, settings_.problem);
+  if (ref.outcome != midend::ReferenceOutcome::kOk) {
+    r.message = "path: " + ref.message;
+    finish(r, checker, start);
+    return r;
+  }
+  safety.prepare(map_W, warm_start);
+  BackendProblem problem(std::move(ref.path), limits_, settings_.problem, safety);
+  r.num_pieces = problem.num_pieces();
+  r.num_variables = problem.num_variables();
+  Eigen::VectorXd x0;
+  if (!problem.decision_from_trajectory(warm_start, x0)) {
+    r.status = BackendStatus::kWarmStartMismatch;
+    r.message = "warm start has " + std::to_string(warm_start.num_pieces()) + " pieces, the problem " +
+                std::to_string(problem.num_pieces()) + " (or a piece's direction differs)";
+    finish(r, checker, start);
+    return r;
+  }
+  const int n = problem.num_variables();
+  LbfgsBuffer x(n);
+  if (x.data == nullptr) {
+    r.status = BackendStatus::kOptimizerFailed;
+    r.message = "lbfgs_malloc failed";
+    finish(r, checker, start);
+    return r;
+  }
+  const double scale = settings_.variable_scale;
+  for (int k = 0; k < n; ++k) x.data[k] = x0[k] / scale;  // the solver's y
+  lbfgs_parameter_t param;
+  lbfgs_parameter_init(&param);
+  param.m = settings_.memory_size;
+  param.epsilon = 0.0;  // relative cost decrease only (nonsmooth penalties)
+  param.past = settings_.relative_cost_past;
+  param.delta = settings_.relative_cost_tolerance;
+  param.max_iterations = settings_.max_iterations;
+  param.linesearch = to_lbfgs_line_search(settings_.line_search);
+  param.max_linesearch = settings_.max_line_search;
+
+  SolveContext ctx;
+  ctx.problem = &problem;
+  ctx.scale = scale;
+  ctx.x.resize(n);
+  ctx.start = start;
+  ctx.budget_s = budget_s;
+  ctx.stop_after_safe = settings_.stop_after_safe_iterations;
+  const auto t_opt = Clock::now();
+  lbfgsfloatval_t fx = 0.0;
+  const int code = lbfgs(n, x.data, &fx, evaluate_cb, progress_cb, &ctx, &param);
+  r.optimize_s = seconds_since(t_opt);
+  r.lbfgs_code = code;
+  r.iterations = ctx.iterations;
+  r.evaluations = ctx.evaluations;
+  r.safety_s = ctx.safety_s;
+  r.initial_cost = ctx.initial;
+  const double f0 = ctx.initial.total();
+  if (!ctx.have_initial || !std::isfinite(f0)) {
+    r.status = BackendStatus::kNumericalFailure;
+    r.message = "the warm start has a non-finite cost";
+    finish(r, checker, start);
+    return r;
+  }
+
+  Eigen::VectorXd x1(n);
+  for (int k = 0; k < n; ++k) x1[k] = scale * x.data[k];
+  // liblbfgs returns its last accepted iterate; its cost was evaluated already unless it is not
+  // the lowest one seen (then evaluate it again).
+  double f1 = fx;
+  if (fx == ctx.best_f) {
+    r.final_cost = ctx.best;
+  } else {
+    f1 = problem.evaluate(x1.data(), nullptr, &r.final_cost);
+  }
+  const std::string detail = std::string("lbfgs: ") + midend::lbfgs_code_to_string(code);
+  if (!std::isfinite(f1)) {
+    r.status = BackendStatus::kNumericalFailure;
+    r.message = detail + "; final cost is not finite";
+  } else if (code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
+             (code == LBFGSERR_CANCELED && ctx.stopped_safe)) {
+    r.status = BackendStatus::kConverged;
+  } else if ((code == LBFGSERR_CANCELED && ctx.budget_hit) || ctx.expired) {
+    r.status = BackendStatus::kTimeBudgetExceeded;
+  } else if (code == LBFGSERR_MAXIMUMITERATION) {
+    r.status = BackendStatus::kIterationLimit;
+  } else if (midend::lbfgs_code_is_stall(code) && f1 < f0) {
+    r.status = BackendStatus::kConvergedWithWarning;
+  } else {
+    r.status = BackendStatus::kOptimizerFailed;
+  }
+  if (r.message.empty()) r.message = ctx.stopped_safe ? detail + " (collision term zero: stopped early)" : detail;
+  if (has_trajectory(r.status)) {
+    std::optional<Trajectory> traj = problem.trajectory(x1.data());
+    if (traj) {
+      r.trajectory = std::move(traj);
+    } else {
+      r.status = BackendStatus::kNumericalFailure;
+      r.message = detail + "; trajectory rejected";
+    }
+  }
+  finish(r, checker, start);
+  return r;
+}
+
+}  // namespace porter::backend

@@ -1,0 +1,426 @@
+#include "porter/backend/svsdf.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace porter::backend {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// Adds the scope's wall time to *sink when sink is non-null.
+class ScopeTimer {
+ public:
+  explicit ScopeTimer(double* sink) : sink_(sink) {
+    if (sink_) start_ = std::chrono::steady_clock::now();
+  }
+  ~ScopeTimer() {
+    if (sink_) *sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+  ScopeTimer(const ScopeTimer&) = delete;
+  ScopeTimer& operator=(const ScopeTimer&) = delete;
+
+ private:
+  double* sink_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+SvsdfEvaluator::SvsdfEvaluator(const RobotSdf& sdf, const SweptBody& body, const SvsdfSettings& settings)
+    : sdf_(&sdf), body_(&body), settings_(settings) {}
+
+double SvsdfEvaluator::evaluate_at(int link, const Eigen::Vector3d& p, double t_s, double* dsdt) {
+  ++stats_.exact_evaluations;
+  body_->evaluate(t_s, state_, link);
+  const Eigen::Matrix3d& R = state_.kin.R_W_L[static_cast<std::size_t>(link)];
+  const Eigen::Vector3d p_L = R.transpose() * (p - state_.kin.t_W_L[static_cast<std::size_t>(link)]);
+  Eigen::Vector3d g_L;
+  const double f = sdf_->link(link).distance(p_L, dsdt ? &g_L : nullptr);
+  if (dsdt) {
+    const Eigen::Vector3d grad_W = R * g_L;
+    PointJacobian J;
+    ChainKinematics::point_jacobian(state_.kin, link, p, J);
+    *dsdt = -grad_W.dot(J * state_.config_rate);
+  }
+  return f;
+}
+
+double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi) {
+  const LinkSdf& sdf = sdf_->link(link);
+  const Eigen::AlignedBox3d& box = sdf.body_bounds();
+  const double err = sdf.fine().error_bound_m();
+  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * err;
+  const int n = k_hi - k_lo + 1;
+  values_.assign(static_cast<std::size_t>(n), kInf);
+  lower_.resize(static_cast<std::size_t>(n));
+  points_.resize(static_cast<std::size_t>(n));
+  stats_.samples_in_range += n;
+  // Level 1: the link's world box over each piece bounds the field from below for all of the
+  // piece's samples; pieces are visited from the closest box and skipped once their bound exceeds
+  // the best value found + margin (margin: the scan's values can be refined down by one step of
+  // motion, and the two interpolants differ by up to 2 err).
+  const int pieces = body_->trajectory().num_pieces();
+  const int last_sample = body_->num_samples() - 1;
+  piece_order_.clear();
+  for (int i = body_->sample_piece(k_lo); i < pieces; ++i) {
+    const int a = std::max(k_lo, body_->piece_first_sample(i));
+    const int b = std::min(k_hi, i + 1 < pieces ? body_->piece_first_sample(i + 1) - 1 : last_sample);
+    if (a > b) {
+      if (body_->piece_first_sample(i) > k_hi) break;
+      continue;
+    }
+    const double lb = body_->piece_box(link, i).exteriorDistance(p) - err;
+    for (int k = a; k <= b; ++k) lower_[static_cast<std::size_t>(k - k_lo)] = lb;
+    piece_order_.push_back({lb, a, b});
+  }
+  std::sort(piece_order_.begin(), piece_order_.end(),
+            [](const PieceRange& x, const PieceRange& y) { return x.lower < y.lower; });
+  double best = kInf;
+  int evaluated = 0;
+  for (const PieceRange& range : piece_order_) {
+    if (range.lower > best + margin) break;
+    // Level 2: p in the link frame at each sample; the distance to the link's bounding box.
+    int seed = range.first;
+    for (int k = range.first; k <= range.last; ++k) {
+      const auto u = static_cast<std::size_t>(k - k_lo);
+      points_[u] = body_->sample_pose(k, link).apply(p);
+      lower_[u] = box.exteriorDistance(points_[u]) - err;
+      if (lower_[u] < lower_[static_cast<std::size_t>(seed - k_lo)]) seed = k;
+    }
+    if (best == kInf) {
+      const auto u = static_cast<std::size_t>(seed - k_lo);
+      values_[u] = lower_[u] = best = sdf.distance_fast(points_[u]);
+      ++evaluated;
+    }
+    // Level 3: look the field up where the bound does not exclude the sample.
+    for (int k = range.first; k <= range.last; ++k) {
+      const auto u = static_cast<std::size_t>(k - k_lo);
+      if (values_[u] != kInf || lower_[u] > best + margin) continue;
+      values_[u] = lower_[u] = sdf.distance_fast(points_[u]);
+      ++evaluated;
+      best = std::min(best, values_[u]);
+    }
+  }
+  stats_.samples_evaluated += evaluated;
+  return best;
+}
+
+SvsdfEvaluator::Candidate SvsdfEvaluator::refine(int link, const Eigen::Vector3d& p, double a,
+                                                 double t_k, double b, double lo, double hi) {
+  Candidate c = bracket_minimum(link, p, a, t_k, b, lo, hi);
+  // The bracket's root is a local minimum, but an earlier evaluated point may be lower when the
+  // field wiggles between samples (a minimum and a maximum within one step, far out in the
+  // coarse grid). Then look for the minimum next to that point, once, in a narrow bracket.
+  if (!c.stationary && c.in_interior) {
+    const double step = 0.25 * body_->settings().scan_dt_s;
+    Candidate again = bracket_minimum(link, p, std::max(lo, c.t - step), c.t, std::min(hi, c.t + step), lo, hi);
+    if (again.f <= c.f) c = again;
+  }
+  return c;
+}
+
+SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen::Vector3d& p, double a,
+                                                          double t_k, double b, double lo, double hi) {
+  // Every exact evaluation is offered to keep(): the search's best state is kept so that finish()
+  // needs no further forward kinematics.
+  auto keep = [this](double f) {
+    if (f < kept_f_) {
+      kept_f_ = f;
+      kept_ = state_;
+    }
+  };
+  double d_k = 0.0;
+  Candidate best{t_k, evaluate_at(link, p, t_k, &d_k)};
+  keep(best.f);
+  if (d_k == 0.0) {
+    best.stationary = true;
+    return best;
+  }
+  // Bracket the zero of the derivative. The scan ranks samples with the trilinear field while the
+  // refinement follows the C^1 one, so the minimum may lie a little beyond the sample bracket: walk
+  // on by whole samples (at most kMaxWalk) until the derivative changes sign or the search ends.
+  constexpr int kMaxWalk = 8;
+  double l, r, dl, dr;
+  if (d_k > 0.0) {
+    if (a >= t_k) return best;
+    r = t_k;
+    dr = d_k;
+    l = a;
+    double fl = evaluate_at(link, p, l, &dl);
+    keep(fl);
+    if (fl < best.f) best = {l, fl};
+    for (int walk = 0; dl >= 0.0 && l > lo && walk < kMaxWalk; ++walk) {
+      r = l;
+      dr = dl;
+      const int k = body_->first_sample_at_or_after(l) - 1;
+      l = k >= 0 ? std::max(lo, body_->sample_time(k)) : lo;
+      if (l >= r) l = lo;
+      fl = evaluate_at(link, p, l, &dl);
+      keep(fl);
+      if (fl < best.f) best = {l, fl};
+    }
+    if (dl >= 0.0) return best;
+  } else {
+    if (b <= t_k) return best;
+    l = t_k;
+    dl = d_k;
+    r = b;
+    double fr = evaluate_at(link, p, r, &dr);
+    keep(fr);
+    if (fr < best.f) best = {r, fr};
+    for (int walk = 0; dr <= 0.0 && r < hi && walk < kMaxWalk; ++walk) {
+      l = r;
+      dl = dr;
+      int k = body_->first_sample_at_or_after(r);
+      if (k < body_->num_samples() && body_->sample_time(k) <= r) ++k;
+      r = k < body_->num_samples() ? std::min(hi, body_->sample_time(k)) : hi;
+      if (r <= l) r = hi;
+      fr = evaluate_at(link, p, r, &dr);
+      keep(fr);
+      if (fr < best.f) best = {r, fr};
+    }
+    if (dr <= 0.0) return best;
+  }
+  // Illinois regula falsi on the derivative (continuous: the field is C^1); bisection when the
+  // secant leaves the bracket.
+  int side = 0;
+  for (int it = 0; it < settings_.max_refine_iterations && r - l > settings_.time_tolerance_s; ++it) {
+    double m = (l * dr - r * dl) / (dr - dl);
+    if (!(m > l && m < r)) m = 0.5 * (l + r);
+    double dm = 0.0;
+    const double fm = evaluate_at(link, p, m, &dm);
+    keep(fm);
+    if (fm < best.f) best = {m, fm};
+    if (dm > 0.0) {
+      r = m;
+      dr = dm;
+      if (side == 1) dl *= 0.5;
+      side = 1;
+    } else if (dm < 0.0) {
+      l = m;
+      dl = dm;
+      if (side == -1) dr *= 0.5;
+      side = -1;
+    } else {
+      break;
+    }
+  }
+  // Stationary when the best point is the bracket's (converged) root; an earlier evaluated point
+  // that is lower means another minimum lies near it (see refine()).
+  if (best.t >= l - settings_.time_tolerance_s && best.t <= r + settings_.time_tolerance_s) {
+    best.stationary = true;
+  } else {
+    best.in_interior = best.t > lo && best.t < hi;
+  }
+  return best;
+}
+
+void SvsdfEvaluator::finish(int link, const Eigen::Vector3d& p, const Candidate& best, double t_lo,
+                            double t_hi, SvsdfValue& out) {
+  if (!(kept_f_ == best.f && kept_.t_s == best.t)) {
+    ++stats_.exact_evaluations;
+    body_->evaluate(best.t, kept_, link);
+  }
+  const BodyState& st = kept_;
+  const Eigen::Matrix3d& R = st.kin.R_W_L[static_cast<std::size_t>(link)];
+  const Eigen::Vector3d p_L = R.transpose() * (p - st.kin.t_W_L[static_cast<std::size_t>(link)]);
+  Eigen::Vector3d g_L;
+  out.g = sdf_->link(link).distance(p_L, &g_L);
+  out.t_star_s = st.t_s;
+  out.grad_p = R * g_L;
+  PointJacobian J;
+  ChainKinematics::point_jacobian(st.kin, link, p, J);
+  out.d_config = -J.transpose() * out.grad_p;
+  PointSensitivity& s = out.sensitivity;
+  s.t_s = st.t_s;
+  s.piece = st.piece;
+  s.tau_s = st.tau_s;
+  s.at_end = st.at_end;
+  s.stationary = best.stationary;
+  s.heading_order = st.heading_order;
+  body_->config_to_flat(st, out.d_config, s.d_z, s.d_heading);
+  const double tol = settings_.time_tolerance_s;
+  out.on_window_edge = (t_lo > 0.0 && best.t <= t_lo + tol) ||
+                       (t_hi < body_->duration_s() && best.t >= t_hi - tol);
+}
+
+void SvsdfEvaluator::full(int link, const Eigen::Vector3d& p_W, SvsdfValue& out) {
+  search(link, p_W, 0.0, body_->duration_s(), out);
+}
+
+void SvsdfEvaluator::windowed(int link, const Eigen::Vector3d& p_W, double t_center_s, SvsdfValue& out) {
+  const double dt = settings_.window_half_width_s;
+  search(link, p_W, t_center_s - dt, t_center_s + dt, out);
+}
+
+void SvsdfEvaluator::search(int link, const Eigen::Vector3d& p, double t_lo_s, double t_hi_s,
+                            SvsdfValue& out) {
+  search(link, p, t_lo_s, t_hi_s, out, SearchOptions{});
+}
+
+void SvsdfEvaluator::search(int link, const Eigen::Vector3d& p, double t_lo_s, double t_hi_s,
+                            SvsdfValue& out, const SearchOptions& options) {
+  const ScopeTimer timer(settings_.collect_timing ? &stats_.search_time_s : nullptr);
+  ScanProfile* profile = options.profile;
+  ++stats_.searches;
+  kept_f_ = kInf;
+  if (profile) profile->lower.clear();
+  const double total = body_->duration_s();
+  const double lo = std::clamp(t_lo_s, 0.0, total);
+  const double hi = std::clamp(t_hi_s, lo, total);
+  if (sdf_->link(link).empty()) {
+    out = SvsdfValue{};
+    out.g = LinkSdf::kNoGeometryDistance_m;
+    out.t_star_s = lo;
+    return;
+  }
+  const int k_lo = body_->first_sample_at_or_after(lo);
+  int k_hi = body_->first_sample_at_or_after(hi);
+  if (k_hi >= body_->num_samples() || body_->sample_time(k_hi) > hi) --k_hi;
+  if (k_lo > k_hi) {
+    finish(link, p, refine(link, p, lo, 0.5 * (lo + hi), hi, lo, hi), lo, hi, out);
+    out.band_lo_s = out.band_hi_s = out.t_star_s;
+    return;
+  }
+  const double coarse = scan(link, p, k_lo, k_hi);
+  if (profile) {
+    profile->k_lo = k_lo;
+    profile->lower.assign(lower_.begin(), lower_.end());
+    profile->order.clear();
+  }
+
+  const int n = k_hi - k_lo + 1;
+  const double reach = body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
+  if (coarse > options.skip_above + reach) {
+    ++stats_.skipped;
+    out = SvsdfValue{};
+    out.far = true;
+    out.g = coarse;
+    int best = 0;
+    for (int i = 1; i < n; ++i) {
+      if (values_[static_cast<std::size_t>(i)] < values_[static_cast<std::size_t>(best)]) best = i;
+    }
+    out.t_star_s = body_->sample_time(k_lo + best);
+    out.band_lo_s = out.band_hi_s = out.t_star_s;
+    return;
+  }
+  minima_.clear();
+  for (int i = 0; i < n; ++i) {
+    const double v = values_[static_cast<std::size_t>(i)];
+    if (!std::isfinite(v)) continue;
+    const double left = i > 0 ? values_[static_cast<std::size_t>(i) - 1] : kInf;
+    const double right = i + 1 < n ? values_[static_cast<std::size_t>(i) + 1] : kInf;
+    if (v <= left && v < right) minima_.push_back(i);
+  }
+  const auto by_value = [this](int a, int b) {
+    return values_[static_cast<std::size_t>(a)] < values_[static_cast<std::size_t>(b)];
+  };
+  int keep = std::min(static_cast<int>(minima_.size()), std::max(1, settings_.max_local_minima));
+  std::partial_sort(minima_.begin(), minima_.begin() + keep, minima_.end(), by_value);
+  // A minimum can only beat the best one after refinement if its sample value is within the
+  // largest drop between samples (one step of motion) plus the two interpolants' difference.
+  while (keep > 1 && values_[static_cast<std::size_t>(minima_[static_cast<std::size_t>(keep) - 1])] >
+                         values_[static_cast<std::size_t>(minima_[0])] + reach) {
+    --keep;
+  }
+
+  Candidate best{lo, kInf};
+  for (int m = 0; m < keep; ++m) {
+    const int i = minima_[static_cast<std::size_t>(m)];
+    const int k = k_lo + i;
+    const double a = i > 0 ? body_->sample_time(k - 1) : lo;
+    const double b = i + 1 < n ? body_->sample_time(k + 1) : hi;
+    const Candidate c = refine(link, p, a, body_->sample_time(k), b, lo, hi);
+    if (c.f < best.f) best = c;
+  }
+  finish(link, p, best, lo, hi, out);
+  out.band_lo_s = out.band_hi_s = out.t_star_s;
+  if (options.band >= 0.0) {
+    for (int i = 0; i < n; ++i) {
+      if (values_[static_cast<std::size_t>(i)] > out.g + options.band) continue;
+      out.band_lo_s = std::min(out.band_lo_s, body_->sample_time(k_lo + i));
+      out.band_hi_s = std::max(out.band_hi_s, body_->sample_time(k_lo + i));
+    }
+  }
+}
+
+double SvsdfEvaluator::coarse_minimum(int link, const Eigen::Vector3d& p, double t_lo_s, double t_hi_s) {
+  const double total = body_->duration_s();
+  const double lo = std::clamp(t_lo_s, 0.0, total);
+  const double hi = std::clamp(t_hi_s, lo, total);
+  if (sdf_->link(link).empty()) return LinkSdf::kNoGeometryDistance_m;
+  const int k_lo = body_->first_sample_at_or_after(lo);
+  int k_hi = body_->first_sample_at_or_after(hi);
+  if (k_hi >= body_->num_samples() || body_->sample_time(k_hi) > hi) --k_hi;
+  if (k_lo > k_hi) return evaluate_at(link, p, 0.5 * (lo + hi), nullptr);
+  return scan(link, p, k_lo, k_hi);
+}
+
+}  // namespace porter::backend
+
+namespace porter::backend {
+
+void SvsdfEvaluator::refine_sample(int link, const Eigen::Vector3d& p, int k, double t_lo_s, double t_hi_s,
+                                   SvsdfValue& out) {
+  const ScopeTimer timer(settings_.collect_timing ? &stats_.search_time_s : nullptr);
+  ++stats_.searches;
+  kept_f_ = kInf;
+  const double total = body_->duration_s();
+  const double lo = std::clamp(t_lo_s, 0.0, total);
+  const double hi = std::clamp(t_hi_s, lo, total);
+  const double t_k = std::clamp(body_->sample_time(k), lo, hi);
+  const double a = k > 0 ? std::max(lo, body_->sample_time(k - 1)) : lo;
+  const double b = k + 1 < body_->num_samples() ? std::min(hi, body_->sample_time(k + 1)) : hi;
+  finish(link, p, refine(link, p, a, t_k, b, lo, hi), lo, hi, out);
+  out.band_lo_s = out.band_hi_s = out.t_star_s;
+}
+
+double SvsdfEvaluator::coarse_minimum_near(int link, const Eigen::Vector3d& y, ScanProfile& profile,
+                                           double radius_m, double abort_below, int* argmin_k) {
+  const ScopeTimer timer(settings_.collect_timing ? &stats_.search_time_s : nullptr);
+  const LinkSdf& sdf = sdf_->link(link);
+  const int n = static_cast<int>(profile.lower.size());
+  if (n == 0 || sdf.empty()) {
+    if (argmin_k) *argmin_k = -1;
+    return sdf.empty() ? LinkSdf::kNoGeometryDistance_m : kInf;
+  }
+  const Eigen::AlignedBox3d& box = sdf.body_bounds();
+  const double err = sdf.fine().error_bound_m();
+  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * err;
+  // Both interpolants are convex combinations of a 1-Lipschitz field's nodes: their slope is at
+  // most sqrt(3) (per-axis node differences <= h), hence the factor on the radius.
+  const double slack = 1.75 * radius_m + margin;
+  // Instants in order of p's proximity: y's minimum is usually among the first (early abort for
+  // losing directions), and once p's bound minus the slack exceeds the best, so do all later ones.
+  stats_.samples_in_range += n;
+  if (profile.order.size() != profile.lower.size()) {
+    profile.order.resize(profile.lower.size());
+    for (std::size_t i = 0; i < profile.order.size(); ++i) profile.order[i] = static_cast<int>(i);
+    std::sort(profile.order.begin(), profile.order.end(), [&profile](int a, int b) {
+      return profile.lower[static_cast<std::size_t>(a)] < profile.lower[static_cast<std::size_t>(b)];
+    });
+  }
+  const int seed = profile.order[0];
+  double best = sdf.distance_fast(body_->sample_pose(profile.k_lo + seed, link).apply(y));
+  int best_k = profile.k_lo + seed;
+  int evaluated = 1;
+  for (int r = 1; r < n && best >= abort_below; ++r) {
+    const int i = profile.order[static_cast<std::size_t>(r)];
+    if (profile.lower[static_cast<std::size_t>(i)] - slack > best) break;
+    const Eigen::Vector3d y_L = body_->sample_pose(profile.k_lo + i, link).apply(y);
+    if (box.exteriorDistance(y_L) - err > best + margin) continue;
+    const double v = sdf.distance_fast(y_L);
+    ++evaluated;
+    if (v < best) {
+      best = v;
+      best_k = profile.k_lo + i;
+    }
+  }
+  stats_.samples_evaluated += evaluated;
+  if (argmin_k) *argmin_k = best_k;
+  return best;
+}
+
+}  // namespace porter::backend

@@ -1,0 +1,197 @@
+#include "porter/backend/svsdf_safety_term.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <thread>
+
+namespace porter::backend {
+
+SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
+                                 const SvsdfSafetySettings& settings)
+    : sdf_(&sdf), settings_(settings), body_(model, settings.body) {
+  for (int w = 0; w < std::max(1, settings_.threads); ++w) {
+    workers_.push_back(std::make_unique<Worker>(sdf, body_, settings_.kc));
+  }
+}
+
+void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& initial) {
+  body_.reset(initial);
+  Eigen::AlignedBox3d region;
+  for (int j = 0; j < kNumLinks; ++j) region.extend(body_.link_box(j));
+  points_.clear();
+  cell_start_.assign(1, 0);
+  cell_points_.clear();
+  if (region.isEmpty()) return;
+  region.min().array() -= settings_.crop_margin_m;
+  region.max().array() += settings_.crop_margin_m;
+  // Keep only points near some link's swept box (the union box can be mostly empty on a turn).
+  std::vector<ObstaclePoint> all = collect_obstacle_points(map_W, region, settings_.points);
+  const double reach = settings_.crop_margin_m;
+  for (const ObstaclePoint& o : all) {
+    for (int j = 0; j < kNumLinks; ++j) {
+      if ((o.links & (1u << j)) && body_.link_box(j).exteriorDistance(o.p_W) <= reach) {
+        points_.push_back(o);
+        break;
+      }
+    }
+  }
+  index_points();
+}
+
+void SvsdfSafetyTerm::index_points() {
+  // A uniform grid of point indices (CSR), so that each swept box visits only its own points.
+  grid_box_.setEmpty();
+  for (const ObstaclePoint& o : points_) grid_box_.extend(o.p_W);
+  cell_start_.assign(1, 0);
+  cell_points_.clear();
+  if (grid_box_.isEmpty()) return;
+  for (int a = 0; a < 3; ++a) {
+    grid_dims_[a] = std::max(1, static_cast<int>(std::floor(grid_box_.sizes()[a] / kCell_m)) + 1);
+  }
+  const std::size_t cells = static_cast<std::size_t>(grid_dims_.prod());
+  std::vector<int> count(cells + 1, 0);
+  std::vector<std::size_t> cell_of(points_.size());
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Vector3i c = cell_index(points_[i].p_W);
+    cell_of[i] = static_cast<std::size_t>(c.x()) + static_cast<std::size_t>(grid_dims_.x()) * (static_cast<std::size_t>(c.y()) + static_cast<std::size_t>(grid_dims_.y()) * c.z());
+    ++count[cell_of[i] + 1];
+  }
+  cell_start_.resize(cells + 1);
+  cell_start_[0] = 0;
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] = cell_start_[c] + count[c + 1];
+  cell_points_.resize(points_.size());
+  std::vector<int> fill(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < points_.size(); ++i) cell_points_[static_cast<std::size_t>(fill[cell_of[i]]++)] = static_cast<int>(i);
+}
+
+Eigen::Vector3i SvsdfSafetyTerm::cell_index(const Eigen::Vector3d& p) const {
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) {
+    c[a] = std::clamp(static_cast<int>(std::floor((p[a] - grid_box_.min()[a]) / kCell_m)), 0, grid_dims_[a] - 1);
+  }
+  return c;
+}
+
+void SvsdfSafetyTerm::find_candidates() {
+  masks_.assign(points_.size(), 0u);
+  candidates_.clear();
+  if (points_.empty()) return;
+  const double widest = std::max(settings_.safety_margin_m, settings_.ground_margin_m);
+  const int pieces = body_.trajectory().num_pieces();
+  for (int j = 0; j < kNumLinks; ++j) {
+    const double err = sdf_->link(j).fine().error_bound_m();
+    const Eigen::AlignedBox3d& local = sdf_->link(j).body_bounds();
+    const std::uint32_t bit = 1u << j;
+    for (int i = 0; i < pieces; ++i) {
+      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+      if (box.isEmpty()) continue;
+      // Level 1: the link's world box swept over the piece, inflated by the margin + err.
+      const Eigen::Vector3i lo = cell_index(box.min() - Eigen::Vector3d::Constant(widest + err));
+      const Eigen::Vector3i hi = cell_index(box.max() + Eigen::Vector3d::Constant(widest + err));
+      for (int z = lo.z(); z <= hi.z(); ++z)
+        for (int y = lo.y(); y <= hi.y(); ++y)
+          for (int x = lo.x(); x <= hi.x(); ++x) {
+            const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(grid_dims_.x()) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(grid_dims_.y()) * z);
+            for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+              const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
+              const ObstaclePoint& o = points_[idx];
+              if ((masks_[idx] & bit) || !(o.links & bit)) continue;
+              const double r = (o.ground ? settings_.ground_margin_m : settings_.safety_margin_m) + err;
+              if (box.exteriorDistance(o.p_W) > r) continue;
+              // Level 2, in the link frame at the piece's samples: between samples every link
+              // point moves at most max_step, so the link stays farther than (distance to its
+              // local box at the nearest sample) - max_step from the point.
+              const double reach = r + body_.max_step_m(j);
+              for (int s = body_.piece_first_sample(i); s <= body_.piece_first_sample(i + 1); ++s) {
+                if (local.exteriorDistance(body_.sample_pose(s, j).apply(o.p_W)) <= reach) {
+                  masks_[idx] |= bit;
+                  break;
+                }
+              }
+            }
+          }
+    }
+  }
+  for (std::size_t idx = 0; idx < points_.size(); ++idx) {
+    if (masks_[idx]) candidates_.push_back(static_cast<int>(idx));
+  }
+}
+
+void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
+  const double s_thr = settings_.safety_margin_m;
+  const double weight = settings_.weight;
+  const int stride = static_cast<int>(workers_.size());
+  w.cost = 0.0;
+  w.stats = SafetyStats{};
+  w.grad.reset(trajectory.num_pieces());
+  for (std::size_t c = static_cast<std::size_t>(index); c < candidates_.size(); c += static_cast<std::size_t>(stride)) {
+    const auto i = static_cast<std::size_t>(candidates_[c]);
+    const ObstaclePoint& o = points_[i];
+    const double margin = o.ground ? settings_.ground_margin_m : s_thr;
+    const std::uint32_t mask = masks_[i];
+    ++w.stats.candidate_points;
+    w.kc.evaluate(o.p_W, mask, w.result, margin);
+    for (int j = 0; j < kNumLinks; ++j) {
+      if (!(mask & (1u << j))) continue;
+      const double d = w.result.links[static_cast<std::size_t>(j)].d;
+      ++w.stats.link_queries;
+      w.stats.min_distance_m = std::min(w.stats.min_distance_m, d);
+      w.stats.inside += d < 0.0;
+      const double x = margin - d;
+      if (x <= 0.0) continue;
+      ++w.stats.violations;
+      w.cost += weight * x * x * x;
+      w.result.add_gradient(trajectory, j, -3.0 * weight * x * x, w.grad);
+    }
+  }
+}
+
+double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradient& grad, SafetyStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  body_.reset(trajectory);
+  if (cell_start_.size() < 2) index_points();  // points set by set_points()
+  find_candidates();
+  std::vector<std::thread> helpers;
+  for (std::size_t w = 1; w < workers_.size(); ++w) {
+    helpers.emplace_back([this, w, &trajectory] { run(*workers_[w], static_cast<int>(w), trajectory); });
+  }
+  run(*workers_[0], 0, trajectory);
+  for (std::thread& t : helpers) t.join();
+  SafetyStats total;
+  total.obstacle_points = static_cast<int>(points_.size());
+  double cost = 0.0;
+  for (const auto& w : workers_) {
+    cost += w->cost;
+    grad.add(w->grad);
+    total.candidate_points += w->stats.candidate_points;
+    total.link_queries += w->stats.link_queries;
+    total.violations += w->stats.violations;
+    total.inside += w->stats.inside;
+    total.min_distance_m = std::min(total.min_distance_m, w->stats.min_distance_m);
+  }
+  total.cost = cost;
+  total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (stats) *stats = total;
+  return cost;
+}
+
+KcSvsdfStats SvsdfSafetyTerm::kc_stats() const {
+  KcSvsdfStats s;
+  for (const auto& w : workers_) s.add(w->kc.stats());
+  return s;
+}
+
+SvsdfStats SvsdfSafetyTerm::svsdf_stats() const {
+  SvsdfStats s;
+  for (const auto& w : workers_) s.add(w->kc.svsdf().stats());
+  return s;
+}
+
+void SvsdfSafetyTerm::reset_stats() {
+  for (auto& w : workers_) {
+    w->kc.stats() = KcSvsdfStats{};
+    w->kc.svsdf().stats() = SvsdfStats{};
+  }
+}
+
+}  // namespace porter::backend

@@ -1,0 +1,309 @@
+// porter-bench-backend: the back-end's measurements (issue 6). Not a test: prints tables.
+//
+//   porter-bench-backend queries            SVSDF / KC-SVSDF time per query point, share in t* search
+//   porter-bench-backend scenes [seeds]     back-end solve time on bridge, tunnel, forest
+//   porter-bench-backend ablation [seeds]   the paper's Table I: bridge h_b = 1.1 .. 0.8, front-end
+//                                           80 ms, optimization (mid-end + back-end) 300 ms,
+//                                           kc_svsdf vs svsdf_per_link on the same warm starts
+//   porter-bench-backend synthetic [seeds]  the same comparison on fixed colliding warm starts
+//                                           (straight pass through the hole, perturbed), which
+//                                           isolates the back-end from the front-end
+// Frozen fixtures: the scenes in config/, the seeds 0..N-1, the payloads of the scenes. The
+// kernel checker runs without self-collision (the shipped arm's links 3 and 5 overlap at q4 = 0
+// and the model does not allow the pair yet: every scene start would be rejected).
+//
+// Recorded (build-backend, Release, 2-core AMD EPYC shared with other builds, load ~3):
+//   $ porter-bench-backend queries
+//   kc_svsdf        KC-SVSDF all 8 links: outside  6100 pts  28.0 us/pt (t* search 98.5%) | inside 34 pts 78.6 us/pt (t* search 93.8%)
+//   SVSDF g_j alone: base full search 3.8 us/pt, payload windowed search 4.0 us/pt
+//   svsdf_per_link  KC-SVSDF all 8 links: outside  6100 pts  28.4 us/pt (t* search 98.5%) | inside 34 pts 72.1 us/pt (t* search 92.6%)
+//   J_s evaluation (cost + gradient): 12.70 ms wall, 1036 of 6134 points past the AABB prefilter
+//   $ porter-bench-backend scenes 5
+//   bridge  paths 5/5 | back-end median 316 ms, mean iterations 9.2, collision-free 2/5
+//   tunnel  paths 5/5 | back-end median 529 ms, mean iterations 0.0, collision-free 0/5
+//   forest  paths 5/5 | back-end median 920 ms, mean iterations 0.0, collision-free 0/5
+//   $ porter-bench-backend ablation 20     (paper: kc 100/100/95/80 %, per-link 80/35/20/0 %)
+//   h_b 1.1: front-end 15/20, direct 1, kc_svsdf 1/20, svsdf_per_link 1/20
+//   h_b 1.0: front-end  7/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
+//   h_b 0.9: front-end  0/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
+//   h_b 0.8: front-end  1/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
+//   $ porter-bench-backend synthetic 20
+//   h_b 1.1: 19 colliding warm starts, kc_svsdf 9/19, svsdf_per_link 9/19 (median 306 / 304 ms)
+//   h_b 1.0: 20, kc 10/20, per-link 10/20;  h_b 0.9: 20, 10/20, 10/20;  h_b 0.8: 20, 1/20, 1/20
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "backend_fixtures.hpp"
+#include "porter/backend/backend.hpp"
+#include "porter/backend/kc_svsdf.hpp"
+#include "porter/baselines/safety_models.hpp"
+#include "porter/core/payload.hpp"
+#include "porter/core/payload_loader.hpp"
+#include "porter/core/robot_loader.hpp"
+#include "porter/core/scene_loader.hpp"
+#include "porter/core/scene_voxelizer.hpp"
+#include "porter/frontend/frontend.hpp"
+#include "porter/midend/midend.hpp"
+#include "porter/planner/collision/kernel_collision_checker.hpp"
+#include "synthetic_paths.hpp"
+
+namespace {
+
+using namespace porter;
+using Clock = std::chrono::steady_clock;
+
+double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+struct Setup {
+  Scene scene;
+  OccupancyGrid grid;
+  RobotModel model;
+  std::unique_ptr<backend::RobotSdf> sdf;
+  std::unique_ptr<planner::KernelCollisionChecker> checker;
+};
+
+std::unique_ptr<Setup> load(const std::string& scene_name, double h_b) {
+  auto s = std::make_unique<Setup>();
+  SceneLoadOptions options;
+  if (h_b > 0.0) options.parameter_overrides["h_b"] = h_b;
+  s->scene = load_scene(backend::testing::source_dir() + "/config/scenes/" + scene_name + ".yaml", options);
+  s->grid = voxelize(s->scene);
+  s->model = attach_payload(load_robot_model(backend::testing::source_dir() + "/config/robots/scout_mini_piper/robot.yaml"),
+                            load_payload(s->scene.payload_file));
+  s->sdf = std::make_unique<backend::RobotSdf>(backend::RobotSdf::build(s->model));
+  s->checker = std::make_unique<planner::KernelCollisionChecker>(s->model);
+  s->checker->set_map(s->grid);
+  return s;
+}
+
+// --- queries --------------------------------------------------------------------------------
+
+void bench_queries() {
+  // A warm start that cuts into the wall and the deck (points inside swept volumes included).
+  auto s = load("bridge", 0.9);
+  JointVector pass;
+  pass << 0.0, 0.75, -0.5, 0.2, 0.0, 0.5;
+  midend::testing::PathBuilder builder({-2.5, 0.25, 0.0}, pass, 0.4, 0.4);
+  builder.straight(5.0, 1);
+  const midend::MidEnd mid(s->model);
+  const midend::MidendResult m = mid.solve(builder.build(), 1.0);
+  backend::SvsdfSafetySettings ss;
+  backend::SvsdfSafetyTerm term(s->model, *s->sdf, ss);
+  term.prepare(s->grid, *m.trajectory);
+  backend::SweptBody body(s->model);
+  body.reset(*m.trajectory);
+  backend::KcSvsdfSettings ks;
+  ks.svsdf.collect_timing = true;
+  std::printf("bridge h_b 0.9, straight pass 25 cm off centre (T = %.1f s, %d pieces), %zu obstacle points within the crop\n",
+              m.trajectory->total_duration_s(), m.trajectory->num_pieces(), term.points().size());
+  for (bool filter : {true, false}) {
+    ks.kinematic_filter = filter;
+    backend::KcSvsdf kc(*s->sdf, body, ks);
+    backend::SvsdfEvaluator eval(*s->sdf, body, ks.svsdf);
+    backend::KcSvsdfResult r;
+    double t_out = 0, t_in = 0, t_base = 0, t_pay = 0, search_out = 0, search_in = 0;
+    int n_out = 0, n_in = 0;
+    // Warm the caches once.
+    for (const auto& o : term.points()) kc.evaluate(o.p_W, backend::kAllLinks, r);
+    kc.svsdf().stats() = backend::SvsdfStats{};
+    for (const auto& o : term.points()) {
+      const double before = kc.svsdf().stats().search_time_s;
+      const auto t0 = Clock::now();
+      kc.evaluate(o.p_W, backend::kAllLinks, r);
+      const double dt = since(t0);
+      const double searched = kc.svsdf().stats().search_time_s - before;
+      bool inside = false;
+      for (const auto& l : r.links) inside = inside || l.inside;
+      (inside ? t_in : t_out) += dt;
+      (inside ? search_in : search_out) += searched;
+      (inside ? n_in : n_out) += 1;
+      backend::SvsdfValue v;
+      auto t1 = Clock::now();
+      eval.full(0, o.p_W, v);
+      t_base += since(t1);
+      t1 = Clock::now();
+      eval.windowed(kEndEffectorLink, o.p_W, v.t_star_s, v);
+      t_pay += since(t1);
+    }
+    const int n = n_in + n_out;
+    std::printf("%-15s KC-SVSDF all 8 links: outside %5d pts %7.1f us/pt (t* search %4.1f%%) | inside %4d pts %7.1f us/pt (t* search %4.1f%%)\n",
+                filter ? "kc_svsdf" : "svsdf_per_link", n_out, 1e6 * t_out / std::max(1, n_out),
+                100.0 * search_out / std::max(1e-12, t_out), n_in, 1e6 * t_in / std::max(1, n_in),
+                100.0 * search_in / std::max(1e-12, t_in));
+    if (filter) {
+      std::printf("SVSDF g_j alone: base full search %.1f us/pt, payload windowed search %.1f us/pt\n",
+                  1e6 * t_base / n, 1e6 * t_pay / n);
+    }
+  }
+  // One evaluation of the penalty (prefilter + the queries it needs), both threads.
+  backend::TrajectoryGradient grad;
+  grad.reset(m.trajectory->num_pieces());
+  backend::SafetyStats st;
+  term.evaluate(*m.trajectory, grad, &st);
+  const int reps = 20;
+  const auto t0 = Clock::now();
+  for (int k = 0; k < reps; ++k) term.evaluate(*m.trajectory, grad, &st);
+  std::printf("J_s evaluation (cost + gradient): %.2f ms wall, %d of %d points past the AABB prefilter, %d (point, link) queries\n",
+              1e3 * since(t0) / reps, st.candidate_points, st.obstacle_points, st.link_queries);
+}
+
+// --- pipeline ---------------------------------------------------------------------------------
+
+struct Outcome {
+  bool frontend_ok = false;
+  bool direct = false;
+  bool success = false;
+  double frontend_s = 0, midend_s = 0, backend_s = 0;
+  std::string note;
+};
+
+struct WarmStart {
+  bool ok = false;
+  planner::WholeBodyPath path;
+  std::optional<Trajectory> trajectory;
+  bool collision_free = false;
+  double frontend_s = 0, midend_s = 0;
+  std::string note;
+};
+
+WarmStart warm_start(Setup& s, frontend::FrontEnd& fe, std::uint64_t seed, double fe_budget, double opt_budget) {
+  WarmStart w;
+  const frontend::FrontendResult f = fe.plan(s.scene.start, s.scene.goal, fe_budget, seed);
+  w.frontend_s = f.elapsed_s;
+  if (f.status != frontend::PlannerStatus::kSuccess) {
+    w.note = "front-end: " + f.message;
+    return w;
+  }
+  w.path = f.path;
+  const midend::MidEnd mid(s.model);
+  const midend::MidendResult m = mid.solve(f.path, opt_budget);
+  w.midend_s = m.elapsed_s;
+  if (!m.ok()) {
+    w.note = "mid-end: " + m.message;
+    return w;
+  }
+  w.ok = true;
+  w.trajectory = m.trajectory;
+  w.collision_free = !s.checker->check_trajectory(*m.trajectory).in_collision;
+  return w;
+}
+
+backend::BackendResult run_backend(Setup& s, const WarmStart& w, baselines::SafetyModel model, double budget) {
+  auto term = baselines::make_safety_term(model, s.model, s.sdf.get());
+  backend::BackendSettings bs;
+  const backend::BackEnd be(s.model, bs);
+  return be.solve(w.path, *w.trajectory, s.grid, *term, budget, s.checker.get());
+}
+
+void bench_scenes(int seeds) {
+  for (const std::string name : {"bridge", "tunnel", "forest"}) {
+    auto s = load(name, -1.0);
+    frontend::FrontEnd fe(s->model, *s->checker);
+    fe.set_map(s->grid);
+    std::vector<double> times;
+    int paths = 0, direct = 0, ok = 0, iters = 0;
+    for (int seed = 0; seed < seeds; ++seed) {
+      const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), 2.0, 0.3);
+      if (!w.ok) continue;
+      ++paths;
+      direct += w.collision_free;
+      const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
+      times.push_back(r.elapsed_s);
+      ok += r.success() || w.collision_free;
+      iters += r.iterations;
+    }
+    std::sort(times.begin(), times.end());
+    const double median = times.empty() ? 0.0 : times[times.size() / 2];
+    double mean = 0.0;
+    for (double t : times) mean += t;
+    std::printf("%-7s front-end paths %2d/%d (mid-end collision-free %d) | back-end (kc_svsdf, 300 ms budget): median %.0f ms, mean %.0f ms, mean iterations %.1f, collision-free after back-end or direct %d/%d\n",
+                name.c_str(), paths, seeds, direct, 1e3 * median, times.empty() ? 0.0 : 1e3 * mean / times.size(),
+                paths ? double(iters) / paths : 0.0, ok, paths);
+  }
+}
+
+void bench_ablation(int seeds) {
+  std::printf("h_b   | front-end ok | direct | kc_svsdf success | svsdf_per_link success\n");
+  for (double h_b : {1.1, 1.0, 0.9, 0.8}) {
+    auto s = load("bridge", h_b);
+    frontend::FrontEnd fe(s->model, *s->checker);
+    fe.set_map(s->grid);
+    int fe_ok = 0, direct = 0, kc = 0, pl = 0;
+    for (int seed = 0; seed < seeds; ++seed) {
+      const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), 0.08, 0.3);
+      if (!w.ok) continue;
+      ++fe_ok;
+      if (w.collision_free) {
+        ++direct;
+        ++kc;
+        ++pl;
+        continue;
+      }
+      const double left = std::max(0.0, 0.3 - w.midend_s);  // one 300 ms optimization budget
+      kc += left > 0.0 && run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, left).success();
+      pl += left > 0.0 && run_backend(*s, w, baselines::SafetyModel::kSvsdfPerLink, left).success();
+    }
+    std::printf("%.1f m | %2d/%d        | %2d     | %2d/%d (%3.0f%%)      | %2d/%d (%3.0f%%)\n", h_b, fe_ok, seeds, direct, kc,
+                seeds, 100.0 * kc / seeds, pl, seeds, 100.0 * pl / seeds);
+  }
+}
+
+void bench_synthetic(int seeds) {
+  std::printf("fixed warm starts: straight pass through the hole, lateral offset U(-0.12, 0.12) m, arm pose\n"
+              "q = (0, 0.75 + U(-0.1, 0.1), -0.5, U(0.1, 0.6), 0, 0.5); back-end budget 300 ms\n");
+  std::printf("h_b   | mid-end in collision | kc_svsdf success | svsdf_per_link success | kc ms (median) | per-link ms\n");
+  for (double h_b : {1.1, 1.0, 0.9, 0.8}) {
+    auto s = load("bridge", h_b);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int colliding = 0, kc = 0, pl = 0;
+    std::vector<double> t_kc, t_pl;
+    for (int seed = 0; seed < seeds; ++seed) {
+      JointVector q;
+      q << 0.0, 0.65 + 0.2 * u(rng), -0.5, 0.1 + 0.5 * u(rng), 0.0, 0.5;
+      const double y = -0.12 + 0.24 * u(rng);
+      midend::testing::PathBuilder builder({-2.5, y, 0.0}, q, 0.4, 0.4);
+      builder.straight(5.0, 1);
+      WarmStart w;
+      w.path = builder.build();
+      const midend::MidEnd mid(s->model);
+      const midend::MidendResult m = mid.solve(w.path, 1.0);
+      if (!m.ok()) continue;
+      w.ok = true;
+      w.trajectory = m.trajectory;
+      if (!s->checker->check_trajectory(*m.trajectory).in_collision) continue;
+      ++colliding;
+      const backend::BackendResult a = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
+      const backend::BackendResult b = run_backend(*s, w, baselines::SafetyModel::kSvsdfPerLink, 0.3);
+      kc += a.success();
+      pl += b.success();
+      t_kc.push_back(a.elapsed_s);
+      t_pl.push_back(b.elapsed_s);
+    }
+    std::sort(t_kc.begin(), t_kc.end());
+    std::sort(t_pl.begin(), t_pl.end());
+    std::printf("%.1f m | %2d of %2d             | %2d/%d (%3.0f%%)      | %2d/%d (%3.0f%%)            | %5.0f          | %5.0f\n", h_b,
+                colliding, seeds, kc, colliding, colliding ? 100.0 * kc / colliding : 0.0, pl, colliding,
+                colliding ? 100.0 * pl / colliding : 0.0, t_kc.empty() ? 0.0 : 1e3 * t_kc[t_kc.size() / 2],
+                t_pl.empty() ? 0.0 : 1e3 * t_pl[t_pl.size() / 2]);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string section = argc > 1 ? argv[1] : "queries";
+  const int seeds = argc > 2 ? std::atoi(argv[2]) : 20;
+  if (section == "queries" || section == "all") bench_queries();
+  if (section == "scenes" || section == "all") bench_scenes(seeds);
+  if (section == "ablation" || section == "all") bench_ablation(seeds);
+  if (section == "synthetic" || section == "all") bench_synthetic(seeds);
+  return 0;
+}
