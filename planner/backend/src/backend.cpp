@@ -9,6 +9,7 @@
 #include <string>
 
 #include "porter/midend/lbfgs_codes.hpp"
+#include "porter/midend/lbfgs_driver.hpp"
 #include "porter/midend/midend.hpp"
 #include "porter/midend/reference_path.hpp"
 
@@ -94,23 +95,6 @@ int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatva
   return 0;
 }
 
-int to_lbfgs_line_search(midend::LineSearch ls) {
-  switch (ls) {
-    case midend::LineSearch::kMoreThuente: return LBFGS_LINESEARCH_MORETHUENTE;
-    case midend::LineSearch::kBacktrackingWolfe: return LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-    case midend::LineSearch::kBacktrackingStrongWolfe: return LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  }
-  return LBFGS_LINESEARCH_DEFAULT;
-}
-
-struct LbfgsBuffer {
-  explicit LbfgsBuffer(int n) : data(lbfgs_malloc(n)) {}
-  ~LbfgsBuffer() { lbfgs_free(data); }
-  LbfgsBuffer(const LbfgsBuffer&) = delete;
-  LbfgsBuffer& operator=(const LbfgsBuffer&) = delete;
-  lbfgsfloatval_t* data;
-};
-
 void finish(BackendResult& r, const planner::CollisionChecker* checker, Clock::time_point start) {
   if (r.ok() && checker) {
     const auto t0 = Clock::now();
@@ -187,7 +171,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     return r;
   }
   const int n = problem.num_variables();
-  LbfgsBuffer x(n);
+  midend::LbfgsBuffer x(n);
   if (x.data == nullptr) {
     r.status = BackendStatus::kOptimizerFailed;
     r.message = "lbfgs_malloc failed";
@@ -196,15 +180,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   }
   const double scale = settings_.variable_scale;
   for (int k = 0; k < n; ++k) x.data[k] = x0[k] / scale;  // the solver's y
-  lbfgs_parameter_t param;
-  lbfgs_parameter_init(&param);
-  param.m = settings_.memory_size;
-  param.epsilon = 0.0;  // relative cost decrease only (nonsmooth penalties)
-  param.past = settings_.relative_cost_past;
-  param.delta = settings_.relative_cost_tolerance;
-  param.max_iterations = settings_.max_iterations;
-  param.linesearch = to_lbfgs_line_search(settings_.line_search);
-  param.max_linesearch = settings_.max_line_search;
+  lbfgs_parameter_t param = midend::lbfgs_parameters(settings_);
 
   SolveContext ctx;
   ctx.problem = &problem;

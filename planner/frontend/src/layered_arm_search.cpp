@@ -1,5 +1,7 @@
 #include "layered_arm_search.hpp"
 
+#include "tree_rewire.hpp"
+
 #include <algorithm>
 
 namespace porter::frontend::detail {
@@ -94,19 +96,7 @@ int LayeredArmSearch::add_node(int tree, int layer, const JointVector& q, int pa
 }
 
 void LayeredArmSearch::reparent(int child, int new_parent, double new_cost) {
-  ArmNode& c = nodes_[static_cast<std::size_t>(child)];
-  auto& siblings = nodes_[static_cast<std::size_t>(c.parent)].children;
-  siblings.erase(std::remove(siblings.begin(), siblings.end(), child), siblings.end());
-  c.parent = new_parent;
-  nodes_[static_cast<std::size_t>(new_parent)].children.push_back(child);
-  const double delta = new_cost - c.cost;
-  std::vector<int> stack{child};
-  while (!stack.empty()) {
-    const int id = stack.back();
-    stack.pop_back();
-    nodes_[static_cast<std::size_t>(id)].cost += delta;
-    for (int k : nodes_[static_cast<std::size_t>(id)].children) stack.push_back(k);
-  }
+  reparent_subtree(nodes_, child, new_parent, new_cost);
 }
 
 /// Grows `tree` into `layer` toward q_target from `from` (or the nearest node of the previous

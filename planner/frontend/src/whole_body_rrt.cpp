@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "porter/frontend/deadline.hpp"
+#include "tree_rewire.hpp"
 
 namespace porter::frontend {
 
@@ -156,21 +157,7 @@ class WbSearch {
     return sample_uniform();
   }
 
-  void reparent(int child, int new_parent, double new_cost) {
-    WbNode& c = nodes_[static_cast<std::size_t>(child)];
-    auto& sib = nodes_[static_cast<std::size_t>(c.parent)].children;
-    sib.erase(std::remove(sib.begin(), sib.end(), child), sib.end());
-    c.parent = new_parent;
-    nodes_[static_cast<std::size_t>(new_parent)].children.push_back(child);
-    const double delta = new_cost - c.cost;
-    std::vector<int> stack{child};
-    while (!stack.empty()) {
-      const int id = stack.back();
-      stack.pop_back();
-      nodes_[static_cast<std::size_t>(id)].cost += delta;
-      for (int k : nodes_[static_cast<std::size_t>(id)].children) stack.push_back(k);
-    }
-  }
+  void reparent(int child, int new_parent, double new_cost) { reparent_subtree(nodes_, child, new_parent, new_cost); }
 
   int add_node(const RobotConfiguration& c, int parent, double cost) {
     WbNode n;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "porter/midend/lbfgs_codes.hpp"
+#include "porter/midend/lbfgs_driver.hpp"
 #include "porter/midend/midend_problem.hpp"
 #include "porter/midend/reference_path.hpp"
 
@@ -53,24 +54,6 @@ int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatva
   }
   return 0;
 }
-
-int to_lbfgs_line_search(LineSearch ls) {
-  switch (ls) {
-    case LineSearch::kMoreThuente: return LBFGS_LINESEARCH_MORETHUENTE;
-    case LineSearch::kBacktrackingWolfe: return LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-    case LineSearch::kBacktrackingStrongWolfe: return LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-  }
-  return LBFGS_LINESEARCH_DEFAULT;
-}
-
-/// Owns an lbfgs_malloc'd array.
-struct LbfgsBuffer {
-  explicit LbfgsBuffer(int n) : data(lbfgs_malloc(n)) {}
-  ~LbfgsBuffer() { lbfgs_free(data); }
-  LbfgsBuffer(const LbfgsBuffer&) = delete;
-  LbfgsBuffer& operator=(const LbfgsBuffer&) = delete;
-  lbfgsfloatval_t* data;
-};
 
 void finish(MidendResult& r, const TrajectoryValidator& validator, Clock::time_point start) {
   if (r.ok() && validator) {
@@ -192,15 +175,7 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
   const double scale = settings_.variable_scale;
   Eigen::Map<Eigen::VectorXd>(x.data, n) = x0 / scale;
 
-  lbfgs_parameter_t param;
-  lbfgs_parameter_init(&param);
-  param.m = settings_.memory_size;
-  param.epsilon = 0.0;  // stop on relative cost decrease only (nonsmooth penalties)
-  param.past = settings_.relative_cost_past;
-  param.delta = settings_.relative_cost_tolerance;
-  param.max_iterations = settings_.max_iterations;
-  param.linesearch = to_lbfgs_line_search(settings_.line_search);
-  param.max_linesearch = settings_.max_line_search;
+  lbfgs_parameter_t param = lbfgs_parameters(settings_);
 
   SolveContext ctx;
   ctx.problem = &problem;
