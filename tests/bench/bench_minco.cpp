@@ -13,6 +13,9 @@
 //   BM_CostGradNoPenalty/N the mid-end cost + gradient with energy and time only (per piece)
 //   BM_CostGradFull/N      the mid-end cost + gradient with every penalty (kappa = 16)
 //   BM_SolveForest/budget  full mid-end solve of the forest path with that budget (ms; 0 = 10 s)
+//   BM_SolveScene/scene/seed full mid-end solve (default budget) of the real front-end path of
+//                          config/scenes/{bridge,tunnel,forest}.yaml (scene 0, 1, 2) for that seed
+//                          (front-end run once at start-up with a 1 s budget; skipped when it fails)
 //   BM_SolveForestConverged same, with the pre-issue-5 stop test (relative decrease 1e-4), for
 //                          the duration the optimizer reaches when it is given time
 //   (Real scenes: planner/frontend exists but no synthetic-free path from config/scenes/forest.yaml
@@ -25,10 +28,14 @@
 
 #include <benchmark/benchmark.h>
 
+#include <optional>
+#include <string>
+
 #include "porter/midend/midend.hpp"
 #include "porter/midend/midend_problem.hpp"
 #include "porter/midend/reference_path.hpp"
 #include "porter/minco/minco_s3.hpp"
+#include "scene_paths.hpp"
 #include "synthetic_paths.hpp"
 
 namespace {
@@ -68,7 +75,8 @@ BENCHMARK(BM_MincoCore)->Arg(10)->Arg(30)->Arg(100);
 
 void cost_grad(benchmark::State& state, std::uint32_t terms) {
   const int n = static_cast<int>(state.range(0));
-  const MidendSettings settings;
+  MidendSettings settings;
+  settings.max_edges_per_piece = 1;  // N pieces for N edges: comparable per-piece numbers
   const MidendLimits limits = MidendLimits::from_robot(testing::scout_mini_piper_model());
   const ReferenceBuild ref = build_reference_path(testing::straight_line(n), limits, settings);
   MidendProblem problem(ref.path, limits, settings);
@@ -111,6 +119,32 @@ void BM_SolveForest(benchmark::State& state) {
   state.SetLabel(to_string(r.status));
 }
 BENCHMARK(BM_SolveForest)->Arg(30)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
+
+void BM_SolveScene(benchmark::State& state) {
+  static const char* kScenes[] = {"bridge", "tunnel", "forest"};
+  const char* scene = kScenes[state.range(0)];
+  const std::optional<testing::ScenePath> sp = testing::frontend_path(scene, static_cast<std::uint64_t>(state.range(1)), 1.0);
+  if (!sp) {
+    state.SkipWithError("the front-end found no path");
+    return;
+  }
+  const MidEnd midend(testing::shipped_robot(""));
+  MidendResult r;
+  for (auto _ : state) {
+    r = midend.solve(sp->path, 0.0);
+    benchmark::DoNotOptimize(r.final_cost.total());
+  }
+  state.counters["iterations"] = r.iterations;
+  state.counters["evaluations"] = r.evaluations;
+  state.counters["pieces"] = r.num_pieces;
+  state.counters["segments"] = r.num_segments;
+  state.counters["T_total_s"] = r.ok() ? r.trajectory->total_duration_s() : -1.0;
+  state.SetLabel(std::string(scene) + " " + to_string(r.status));
+}
+BENCHMARK(BM_SolveScene)
+    ->ArgsProduct({{0, 1, 2}, {1, 2, 3, 4, 5}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(5);
 
 void BM_SolveForestConverged(benchmark::State& state) {
   MidendSettings settings;

@@ -78,6 +78,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   if (!nonneg(s.weight_min_speed) || !(s.min_speed_fraction >= 0.0 && s.min_speed_fraction <= 1.0)) {
     return fail("weight_min_speed must be >= 0 and min_speed_fraction in [0, 1]");
   }
+  if (!(s.slow_reference_fraction > 0.0 && s.slow_reference_fraction <= 1.0)) {
+    return fail("slow_reference_fraction not in (0, 1]");
+  }
   if (!pos(s.energy_weight_base) || !pos(s.energy_weight_joint)) return fail("energy weights must be > 0");
   if (!pos(s.time_weight_per_s)) return fail("time_weight_per_s must be > 0");
   if (!pos(s.penalty_smoothing) || s.penalty_smoothing > 1.0) return fail("penalty_smoothing not in (0, 1]");
@@ -93,6 +96,11 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   }
   if (!nonneg(s.coincident_tolerance) || !nonneg(s.min_segment_length_m)) return fail("path tolerances must be >= 0");
   if (!(s.densify_factor >= 1.0) || s.max_pieces_per_edge < 1) return fail("densify_factor must be >= 1 and max_pieces_per_edge >= 1");
+  if (!pos(s.piece_length_m) || !pos(s.piece_arm_motion_rad) || s.max_edges_per_piece < 1 ||
+      !(s.piece_duration_ratio >= 1.0)) {
+    return fail("piece_length_m and piece_arm_motion_rad must be > 0, max_edges_per_piece >= 1 and piece_duration_ratio >= 1");
+  }
+  if (s.samples_per_edge < 1 || s.samples_per_edge > 64) return fail("samples_per_edge not in [1, 64]");
   if (!pos(s.initial_speed_fraction) || s.initial_speed_fraction > 1.0) return fail("initial_speed_fraction not in (0, 1]");
   if (!pos(s.min_initial_piece_duration_s)) return fail("min_initial_piece_duration_s must be > 0");
   if (s.max_iterations < 1) return fail("max_iterations must be >= 1");

@@ -1,5 +1,6 @@
 #include "porter/midend/midend_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -47,18 +48,32 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
   for (int s = 0; s < num_segments; ++s) {
     const ReferenceSegment& seg = reference_.segments[s];
     const int m = seg.num_pieces();
-    segment_layout_[s].min_speed.assign(m, 1);
+    SegmentLayout& l = segment_layout_[s];
+    l.min_speed.assign(m, 0.0);
+    l.kappa.assign(m, 0);
+    l.fractions.resize(m);
     for (int i = 0; i < m; ++i) {
-      const double moved = std::hypot(seg.nodes[i + 1].base.x_m - seg.nodes[i].base.x_m,
-                                      seg.nodes[i + 1].base.y_m - seg.nodes[i].base.y_m);
-      if (moved < settings_.min_segment_length_m) segment_layout_[s].min_speed[i] = 0;
+      const int edges = seg.edges_in_piece(i);
+      double moved = 0.0;
+      for (int e = seg.knots[i]; e < seg.knots[i + 1]; ++e) {
+        moved += std::hypot(seg.nodes[e + 1].base.x_m - seg.nodes[e].base.x_m,
+                            seg.nodes[e + 1].base.y_m - seg.nodes[e].base.y_m);
+      }
+      // The non-singular speed, but never above slow_reference_fraction of the reference's own
+      // speed over the piece (initial duration): where the front-end creeps (a large arm motion
+      // over a few millimetres of base path, typically its last edge onto the goal), forcing
+      // v_ns would push the base past the next node and make it reverse inside the segment.
+      const double v_ref = moved / seg.durations_s[i];
+      l.min_speed[i] = moved < settings_.min_segment_length_m
+                           ? 0.0
+                           : std::min(settings_.min_speed_fraction * limits_.nonsingular_speed_mps,
+                                      settings_.slow_reference_fraction * v_ref);
+      l.kappa[i] = seg.intervals[i];
+      for (int k = 0; k <= edges; ++k) l.fractions[i].push_back(seg.fraction_in_piece(i, k));
     }
-    if (s == 0) segment_layout_[s].min_speed.front() = 0;
-    if (s + 1 == num_segments) segment_layout_[s].min_speed.back() = 0;
-    segment_layout_[s].kappa.assign(m, settings_.samples_per_piece);
-    const int dense = settings_.samples_per_piece * settings_.gear_sample_factor;
-    if (s > 0) segment_layout_[s].kappa.front() = dense;
-    if (s + 1 < num_segments) segment_layout_[s].kappa.back() = dense;
+    if (s == 0) l.min_speed.front() = 0.0;
+    if (s + 1 == num_segments) l.min_speed.back() = 0.0;
+
   }
   gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
   for (auto& g : gear_layout_) {
@@ -102,7 +117,7 @@ Eigen::VectorXd MidendProblem::initial_guess() const {
     const ReferenceSegment& seg = reference_.segments[s];
     const SegmentLayout& l = segment_layout_[s];
     for (int i = 0; i + 1 < l.pieces; ++i) {
-      x.segment<kTrajDim>(l.q_offset + kTrajDim * i) = node_vector(seg.nodes[i + 1]);
+      x.segment<kTrajDim>(l.q_offset + kTrajDim * i) = node_vector(seg.nodes[seg.knots[i + 1]]);
     }
     for (int i = 0; i < l.pieces; ++i) {
       x[l.tau_offset + i] = minco::tau_from_duration(seg.durations_s[i]);
@@ -167,18 +182,14 @@ void MidendProblem::set_terms(std::uint32_t mask) {
 
 double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
   const ReferenceSegment& seg = reference_.segments[s];
-  const double min_speed_mps = segment_layout_[s].min_speed[i]
-                                   ? settings_.min_speed_fraction * limits_.nonsingular_speed_mps
-                                   : 0.0;
+  const double min_speed_mps = segment_layout_[s].min_speed[i];
   if (!reference_sampling_) {
     detail::PieceInputs in;
     in.eta = seg.eta;
-    in.node_start = &seg.nodes[i];
-    in.node_end = &seg.nodes[i + 1];
-    in.start_dir[0] = node_dir_[s][i][0];
-    in.start_dir[1] = node_dir_[s][i][1];
-    in.end_dir[0] = node_dir_[s][i + 1][0];
-    in.end_dir[1] = node_dir_[s][i + 1][1];
+    in.num_edges = seg.edges_in_piece(i);
+    in.nodes = &seg.nodes[seg.knots[i]];
+    in.dirs = &node_dir_[s][seg.knots[i]];
+    in.fractions = segment_layout_[s].fractions[i].data();
     in.min_speed_mps = min_speed_mps;
     static_assert(Minco::kStorage == Eigen::RowMajor, "the fast sampler reads row-major blocks");
     const int row = minco::kPieceCoeffs * i;
@@ -192,8 +203,9 @@ double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
   integrand.penalty = penalty_;
   integrand.terms = terms_;
   integrand.eta = seg.eta;
-  integrand.node_start = &seg.nodes[i];
-  integrand.node_end = &seg.nodes[i + 1];
+  integrand.num_edges = seg.edges_in_piece(i);
+  integrand.nodes = &seg.nodes[seg.knots[i]];
+  integrand.fractions = segment_layout_[s].fractions[i].data();
   integrand.duration_s = durations_[s][i];
   integrand.min_speed_mps = min_speed_mps;
   integrand.breakdown = breakdown;

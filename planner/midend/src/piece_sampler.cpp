@@ -4,6 +4,7 @@
 
 #include "porter/midend/diff_drive.hpp"
 #include "porter/midend/midend_problem.hpp"
+#include "nearest_node.hpp"
 
 namespace porter::midend::detail {
 namespace {
@@ -227,6 +228,7 @@ double sample_piece(const SamplerConstants& k, const PieceInputs& in, const doub
   const bool residual_on = k.residual_base || k.residual_arm;
   double total = 0.0, gt = 0.0;
   CostBreakdown sums;  // integrals of each term over the piece
+  int node = 0;        // nearest reference node (piece-local), advanced with j
   for (int j = 0; j <= kappa; ++j) {
     const double frac = static_cast<double>(j) / kappa;
     const double t = frac * duration_s;
@@ -263,14 +265,11 @@ double sample_piece(const SamplerConstants& k, const PieceInputs& in, const doub
       }
     }
     if (residual_on) {
-      if (2 * j < kappa) {
-        residual(k, in.eta, *in.node_start, in.start_dir, 1.0, s, g);
-      } else if (2 * j > kappa) {
-        residual(k, in.eta, *in.node_end, in.end_dir, 1.0, s, g);
-      } else {
-        residual(k, in.eta, *in.node_start, in.start_dir, 0.5, s, g);
-        residual(k, in.eta, *in.node_end, in.end_dir, 0.5, s, g);
-      }
+      bool tie = false;
+      nearest_node(in.fractions, in.num_edges, j, kappa, &node, &tie);
+      const double share = tie ? 0.5 : 1.0;
+      residual(k, in.eta, in.nodes[node], in.dirs[node].data(), share, s, g);
+      if (tie) residual(k, in.eta, in.nodes[node + 1], in.dirs[node + 1].data(), share, s, g);
     }
     const double value = g.total();
     if (value == 0.0 && !s.any) continue;

@@ -17,6 +17,7 @@
 //
 // Pure apart from the output arguments; thread-safe.
 
+#include <array>
 #include <cstdint>
 
 #include "porter/core/types.hpp"
@@ -48,10 +49,10 @@ struct SamplerConstants {
 /// What differs per piece.
 struct PieceInputs {
   int eta = 1;
-  const RobotConfiguration* node_start = nullptr;
-  const RobotConfiguration* node_end = nullptr;
-  double start_dir[2] = {1.0, 0.0};  ///< (cos, sin) of node_start's yaw
-  double end_dir[2] = {1.0, 0.0};    ///< (cos, sin) of node_end's yaw
+  int num_edges = 1;                           ///< reference edges spanned by the piece (m)
+  const RobotConfiguration* nodes = nullptr;   ///< its m + 1 reference nodes, in order
+  const std::array<double, 2>* dirs = nullptr; ///< (cos, sin) of each node's yaw
+  const double* fractions = nullptr;           ///< each node's time fraction: 0 .. 1 (nearest_node.hpp)
   double min_speed_mps = 0.0;  ///< > 0: keep |v_xy| above it
 };
 

@@ -122,6 +122,75 @@ void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits&
   }
 }
 
+// Step 8: groups the edges of every segment into pieces. On entry seg.durations_s holds one
+// duration per edge (allocate_times); on exit one per piece, with knots and node fractions.
+void group_pieces(std::vector<ReferenceSegment>& segments, const MidendSettings& settings) {
+  const int num_segments = static_cast<int>(segments.size());
+  for (int s = 0; s < num_segments; ++s) {
+    ReferenceSegment& seg = segments[s];
+    const std::vector<double> edge_s = std::move(seg.durations_s);
+    const int num_edges = static_cast<int>(edge_s.size());
+    // The edge next to a gear switch is a piece of its own (densely sampled, base at v_ns).
+    const int first_free = s > 0 ? 1 : 0;
+    const int last_free = s + 1 < num_segments ? num_edges - 1 : num_edges;
+    seg.knots.assign(1, 0);
+    double length = 0.0, arm = 0.0, first_s = 0.0;
+    int edges = 0;
+    for (int e = 0; e < num_edges; ++e) {
+      const RobotConfiguration& a = seg.nodes[e];
+      const RobotConfiguration& b = seg.nodes[e + 1];
+      const double de = std::hypot(b.base.x_m - a.base.x_m, b.base.y_m - a.base.y_m);
+      const double dq = (b.q_rad - a.q_rad).norm();
+      const bool forced = e == first_free || e == last_free;  // gear edges stay alone
+      // Edges of very different durations (the speed profile accelerating or braking, an arm
+      // motion starting) are not merged: inside a piece the node fractions are fixed, and where
+      // the profile changes the waypoints carry it into the initial guess.
+      const double ratio = edges > 0 ? std::max(edge_s[e] / first_s, first_s / edge_s[e]) : 1.0;
+      if (edges > 0 && (forced || length + de > settings.piece_length_m ||
+                        arm + dq > settings.piece_arm_motion_rad ||
+                        edges + 1 > settings.max_edges_per_piece ||
+                        ratio > settings.piece_duration_ratio)) {
+        seg.knots.push_back(e);
+        length = arm = 0.0;
+        edges = 0;
+      }
+      if (edges == 0) first_s = edge_s[e];
+      length += de;
+      arm += dq;
+      ++edges;
+    }
+    seg.knots.push_back(num_edges);
+    const int num_pieces = static_cast<int>(seg.knots.size()) - 1;
+    seg.durations_s.assign(num_pieces, 0.0);
+    seg.intervals.assign(num_pieces, 0);
+    seg.node_fraction.assign(seg.nodes.size(), 0.0);
+    for (int p = 0; p < num_pieces; ++p) {
+      const int m = seg.knots[p + 1] - seg.knots[p];
+      int kappa = std::max({settings.samples_per_piece, settings.samples_per_edge * m, 2 * m});
+      const bool gear = (s > 0 && p == 0) || (s + 1 < num_segments && p + 1 == num_pieces);
+      if (gear) kappa *= settings.gear_sample_factor;
+      kappa += kappa % 2;  // even: the instants midway between nodes are samples
+      kappa = std::min(kappa, std::max(ReferenceSegment::kMaxSamplesPerPiece, 2 * m));
+      seg.intervals[p] = kappa;
+      double total = 0.0;
+      for (int e = seg.knots[p]; e < seg.knots[p + 1]; ++e) total += edge_s[e];
+      seg.durations_s[p] = total;
+      // Node fractions on the grid 2 / kappa (in grid units g, out of kappa / 2), strictly
+      // increasing and leaving room for the nodes still to place.
+      const int grid = kappa / 2;
+      double t = 0.0;
+      int prev = 0;
+      for (int e = seg.knots[p]; e + 1 < seg.knots[p + 1]; ++e) {
+        t += edge_s[e];
+        const int left = seg.knots[p + 1] - (e + 1);  // nodes after this one, the end included
+        const int g = std::clamp(static_cast<int>(std::lround(t / total * grid)), prev + 1, grid - left);
+        seg.node_fraction[e + 1] = 2.0 * g / kappa;
+        prev = g;
+      }
+    }
+  }
+}
+
 }  // namespace
 
 ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const MidendLimits& limits,
@@ -214,7 +283,7 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     return out;
   }
 
-  // 6-7. densify and allocate time.
+  // 6-8. densify, allocate time, group edges into pieces.
   const double base_step = settings.densify_factor * settings.residual_base_bound_m;
   const double arm_step = settings.densify_factor * settings.residual_arm_bound_rad;
   for (const Segment& s : segs) {
@@ -238,6 +307,7 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     out.path.segments.push_back(std::move(r));
   }
   allocate_times(out.path.segments, limits, settings);
+  group_pieces(out.path.segments, settings);
   out.outcome = ReferenceOutcome::kOk;
   return out;
 }

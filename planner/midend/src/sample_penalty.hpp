@@ -12,6 +12,7 @@
 #include "porter/midend/midend_settings.hpp"
 #include "porter/minco/penalty.hpp"
 #include "porter/minco/penalty_integral.hpp"
+#include "nearest_node.hpp"
 
 namespace porter::midend::detail {
 
@@ -21,8 +22,9 @@ struct SamplePenalty {
   minco::PenaltyFunction penalty;
   std::uint32_t terms = kTermAll;
   int eta = 1;
-  const RobotConfiguration* node_start = nullptr;  ///< reference node at the piece start
-  const RobotConfiguration* node_end = nullptr;    ///< reference node at the piece end
+  int num_edges = 1;                               ///< reference edges of the piece (m)
+  const RobotConfiguration* nodes = nullptr;       ///< its m + 1 reference nodes
+  const double* fractions = nullptr;               ///< their time fractions (nearest_node.hpp)
   double duration_s = 0.0;                         ///< piece duration (for the breakdown)
   double min_speed_mps = 0.0;                      ///< > 0: keep |v_xy| above it
   CostBreakdown* breakdown = nullptr;              ///< integrated per-term costs, if non-null
@@ -44,14 +46,11 @@ struct SamplePenalty {
       if (dphi != 0.0) s.grad_vel.head<2>() -= (w * dphi * 2.0 * inv) * v;
     }
     if (terms & (kTermResidualBase | kTermResidualArm)) {
-      if (2 * s.index < s.kappa) {
-        residual(s, *node_start, 1.0, g);
-      } else if (2 * s.index > s.kappa) {
-        residual(s, *node_end, 1.0, g);
-      } else {
-        residual(s, *node_start, 0.5, g);
-        residual(s, *node_end, 0.5, g);
-      }
+      int k = 0;
+      bool tie = false;
+      nearest_node(fractions, num_edges, s.index, s.kappa, &k, &tie);
+      residual(s, nodes[k], tie ? 0.5 : 1.0, g);
+      if (tie) residual(s, nodes[k + 1], 0.5, g);
     }
     if (breakdown) {
       const double w = (s.index == 0 || s.index == s.kappa ? 0.5 : 1.0) * duration_s / s.kappa;

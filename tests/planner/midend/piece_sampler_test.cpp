@@ -43,8 +43,8 @@ double breakdown_error(const CostBreakdown& a, const CostBreakdown& b) {
   return e;
 }
 
-void compare(const planner::WholeBodyPath& path, const MidendLimits& limits, unsigned seed) {
-  MidendSettings settings;
+void compare(const planner::WholeBodyPath& path, const MidendLimits& limits, unsigned seed,
+             const MidendSettings& settings = {}) {
   const ReferenceBuild ref = build_reference_path(path, limits, settings);
   ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
   MidendProblem problem(ref.path, limits, settings);
@@ -52,7 +52,7 @@ void compare(const planner::WholeBodyPath& path, const MidendLimits& limits, uns
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal(0.0, 1.0);
   int active_samples = 0;
-  for (const double sigma : {0.0, 0.003, 0.03, 0.15}) {
+  for (const double sigma : {0.0, 0.003, 0.03, 0.15, 0.5}) {
     Eigen::VectorXd x = problem.initial_guess();
     for (int k = 0; k < n; ++k) x[k] += sigma * normal(rng);
     for (const std::uint32_t mask : kMasks) {
@@ -77,6 +77,18 @@ TEST(PieceSampler, MatchesReferenceOnForest) { compare(testing::forest_slalom(50
 TEST(PieceSampler, MatchesReferenceOnThreePointTurn) { compare(testing::three_point_turn(), tight_limits(), 2); }
 TEST(PieceSampler, MatchesReferenceWithRobotLimits) {
   compare(testing::forward_with_turn(), MidendLimits::from_robot(testing::scout_mini_piper_model()), 3);
+}
+// Pieces spanning many reference edges (interior nodes, ties between them) and one edge each.
+TEST(PieceSampler, MatchesReferenceWithLongAndSingleEdgePieces) {
+  MidendSettings wide;
+  wide.max_edges_per_piece = 8;
+  wide.piece_length_m = 4.0;
+  wide.piece_arm_motion_rad = 4.0;
+  wide.piece_duration_ratio = 100.0;
+  compare(testing::forest_slalom(50), tight_limits(), 4, wide);
+  MidendSettings single;
+  single.max_edges_per_piece = 1;
+  compare(testing::three_point_turn(), tight_limits(), 5, single);
 }
 
 /// A safety-like extra cost: K = sum_i sum_j w_j (T_i / kappa) |p_xy(t_ij) - c|^2 ... over each

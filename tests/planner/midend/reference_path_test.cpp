@@ -125,5 +125,67 @@ TEST(ReferencePath, SyntheticThreePointTurnHasThreeSegments) {
   }
 }
 
+
+// Step 8: edges grouped into pieces. Invariants on a path with reversals and arm motion: knots
+// cover the nodes in order, each piece respects the caps, the edge next to a gear switch is
+// alone, interior node fractions are strictly increasing multiples of 2 / kappa inside (0, 1),
+// and piece durations are the sums of the edge durations (the one-edge-per-piece build).
+TEST(ReferencePath, GroupsEdgesIntoPiecesWithinTheCaps) {
+  MidendSettings s;
+  MidendSettings single = s;
+  single.max_edges_per_piece = 1;
+  const planner::WholeBodyPath path = testing::three_point_turn();
+  const ReferenceBuild b = build_reference_path(path, limits(), s);
+  const ReferenceBuild one = build_reference_path(path, limits(), single);
+  ASSERT_EQ(b.outcome, ReferenceOutcome::kOk);
+  ASSERT_EQ(one.outcome, ReferenceOutcome::kOk);
+  ASSERT_EQ(b.path.segments.size(), one.path.segments.size());
+  EXPECT_LT(b.path.num_pieces(), one.path.num_pieces());
+  const int num_segments = static_cast<int>(b.path.segments.size());
+  for (int si = 0; si < num_segments; ++si) {
+    const ReferenceSegment& seg = b.path.segments[si];
+    const ReferenceSegment& ref = one.path.segments[si];
+    ASSERT_EQ(seg.nodes.size(), ref.nodes.size());
+    ASSERT_EQ(ref.num_pieces() + 1, static_cast<int>(ref.nodes.size()));
+    ASSERT_EQ(static_cast<int>(seg.knots.size()), seg.num_pieces() + 1);
+    ASSERT_EQ(seg.intervals.size(), seg.durations_s.size());
+    EXPECT_EQ(seg.knots.front(), 0);
+    EXPECT_EQ(seg.knots.back(), static_cast<int>(seg.nodes.size()) - 1);
+    for (int p = 0; p < seg.num_pieces(); ++p) {
+      const int m = seg.edges_in_piece(p);
+      ASSERT_GE(m, 1);
+      EXPECT_LE(m, s.max_edges_per_piece);
+      double length = 0.0, arm = 0.0, edge_sum = 0.0;
+      for (int e = seg.knots[p]; e < seg.knots[p + 1]; ++e) {
+        length += std::hypot(seg.nodes[e + 1].base.x_m - seg.nodes[e].base.x_m,
+                             seg.nodes[e + 1].base.y_m - seg.nodes[e].base.y_m);
+        arm += (seg.nodes[e + 1].q_rad - seg.nodes[e].q_rad).norm();
+        edge_sum += ref.durations_s[e];
+      }
+      if (m > 1) {
+        EXPECT_LE(length, s.piece_length_m + 1e-12);
+        EXPECT_LE(arm, s.piece_arm_motion_rad + 1e-12);
+      }
+      EXPECT_NEAR(seg.durations_s[p], edge_sum, 1e-12);
+      const int kappa = seg.intervals[p];
+      EXPECT_EQ(kappa % 2, 0);
+      EXPECT_GE(kappa, std::max(s.samples_per_piece, s.samples_per_edge * m));
+      EXPECT_EQ(seg.fraction_in_piece(p, 0), 0.0);
+      EXPECT_EQ(seg.fraction_in_piece(p, m), 1.0);
+      for (int k = 1; k < m; ++k) {
+        const double f = seg.fraction_in_piece(p, k);
+        EXPECT_GT(f, seg.fraction_in_piece(p, k - 1));
+        EXPECT_LT(f, 1.0);
+        EXPECT_NEAR(f * kappa / 2.0, std::round(f * kappa / 2.0), 1e-12);
+      }
+    }
+    if (si > 0) {
+      EXPECT_EQ(seg.edges_in_piece(0), 1);
+      EXPECT_EQ(seg.intervals.front(), s.samples_per_piece * s.gear_sample_factor);
+    }
+    if (si + 1 < num_segments) EXPECT_EQ(seg.edges_in_piece(seg.num_pieces() - 1), 1);
+  }
+}
+
 }  // namespace
 }  // namespace porter::midend

@@ -22,18 +22,34 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
                              double dt_s) {
   CheckReport r;
   const ReferenceBuild ref = build_reference_path(path, limits, settings);
-  std::vector<std::pair<RobotConfiguration, RobotConfiguration>> edges;
+  // Per trajectory piece: its reference nodes and their time fractions (reference_path.hpp).
+  struct PieceRef {
+    std::vector<const RobotConfiguration*> nodes;
+    std::vector<double> fractions;
+  };
+  std::vector<PieceRef> refs;
   for (const auto& seg : ref.path.segments) {
-    for (std::size_t i = 0; i + 1 < seg.nodes.size(); ++i) edges.emplace_back(seg.nodes[i], seg.nodes[i + 1]);
+    for (int p = 0; p < seg.num_pieces(); ++p) {
+      PieceRef pr;
+      for (int k = 0; k <= seg.edges_in_piece(p); ++k) {
+        pr.nodes.push_back(&seg.nodes[static_cast<std::size_t>(seg.knots[p] + k)]);
+        pr.fractions.push_back(seg.fraction_in_piece(p, k));
+      }
+      refs.push_back(std::move(pr));
+    }
   }
-  const bool have_edges = static_cast<int>(edges.size()) == traj.num_pieces();
+  const bool have_edges = ref.outcome == ReferenceOutcome::kOk &&
+                          static_cast<int>(refs.size()) == traj.num_pieces();
+  r.have_reference = have_edges;
   const int n = traj.num_pieces();
   const double total = traj.total_duration_s();
 
   // Boundaries.
   if (have_edges) {
-    const TrajVector z0 = node_vector(edges.front().first);
-    const TrajVector z1 = node_vector(edges.back().second);
+    const RobotConfiguration& first = ref.path.segments.front().nodes.front();
+    const RobotConfiguration& last = ref.path.segments.back().nodes.back();
+    const TrajVector z0 = node_vector(first);
+    const TrajVector z1 = node_vector(last);
     r.boundary_error = std::max({(traj.position(0.0) - z0).cwiseAbs().maxCoeff(),
                                  traj.velocity(0.0).cwiseAbs().maxCoeff(),
                                  traj.acceleration(0.0).cwiseAbs().maxCoeff(),
@@ -41,9 +57,9 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
                                  traj.velocity(total).cwiseAbs().maxCoeff(),
                                  traj.acceleration(total).cwiseAbs().maxCoeff()});
     r.start_heading_error_rad =
-        std::abs(angle_difference(traj.yaw_rad(0.0), edges.front().first.base.yaw_rad));
+        std::abs(angle_difference(traj.yaw_rad(0.0), first.base.yaw_rad));
     r.goal_heading_error_rad =
-        std::abs(angle_difference(traj.yaw_rad(total), edges.back().second.base.yaw_rad));
+        std::abs(angle_difference(traj.yaw_rad(total), last.base.yaw_rad));
   }
 
   // Knots.
@@ -115,10 +131,15 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
       double tau = 0.0;
       const int i = traj.locate(t, &tau);
       const double frac = tau / traj.piece(i).duration_s;
-      // Nearest in time; at the exact midpoint either node is nearest: take the better one.
+      // Nearest in time (node times are fixed fractions of the piece); at an exact midpoint
+      // either node is nearest: take the better one.
+      const PieceRef& pr = refs[static_cast<std::size_t>(i)];
+      double best_gap = 1e300;
+      for (double f : pr.fractions) best_gap = std::min(best_gap, std::abs(f - frac));
       std::vector<const RobotConfiguration*> nodes;
-      if (frac <= 0.5 + 1e-9) nodes.push_back(&edges[i].first);
-      if (frac >= 0.5 - 1e-9) nodes.push_back(&edges[i].second);
+      for (std::size_t k = 0; k < pr.nodes.size(); ++k) {
+        if (std::abs(pr.fractions[k] - frac) <= best_gap + 1e-9) nodes.push_back(pr.nodes[k]);
+      }
       double best_b = 1e300, best_m = 1e300;
       for (const RobotConfiguration* node : nodes) {
         const double dx = st.z[0] - node->base.x_m, dy = st.z[1] - node->base.y_m;

@@ -13,6 +13,8 @@ namespace porter::midend::testing {
 
 struct CheckReport {
   bool finite = true;
+  bool have_reference = false;       ///< the pieces matched the rebuilt reference path (the
+                                     ///< boundary, heading and residual fields are only then set)
   double boundary_error = 0.0;       ///< max |z - node|, |z_dot|, |z_ddot| at start and goal
   double continuity_error = 0.0;     ///< max jump of derivatives 0..4 at same-direction knots
   double gear_error = 0.0;           ///< at gear switches: position / arm rate jumps and
@@ -32,9 +34,10 @@ struct CheckReport {
   int samples = 0;
 };
 
-/// Samples every dt_s. The reference nodes are rebuilt from `path` with `settings` so that the
-/// pose residuals use the same nearest-in-time node as the mid-end (the trajectory must have
-/// one piece per reference edge).
+/// Samples every dt_s. The reference path is rebuilt from `path` with `settings` so that the
+/// pose residuals use the same nearest-in-time node as the mid-end (node times at the same
+/// fractions of each piece; the trajectory must have one piece per reference piece, else
+/// have_reference is false).
 CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPath& path,
                              const MidendLimits& limits, const MidendSettings& settings,
                              double dt_s = 1e-3);

@@ -21,11 +21,14 @@
 // up or down, which the penalties otherwise make a long, narrow valley in the tau_i.
 //
 // Cost = energy (W diagonal) + rho_T * T_total + penalties integrated over kappa samples per
-// piece (wheel omega/alpha, joint q/qd/qdd, pose residuals e_b and e_m to the front-end node
-// nearest in time: a sample at fraction j/kappa of piece i uses node i when j < kappa/2, node i+1
-// when j > kappa/2 and both at half weight when j = kappa/2), plus the boundary-heading term at
-// the global start and goal and the non-singular speed term (midend_settings.hpp). Pieces that
-// touch a gear switch use gear_sample_factor * kappa samples.
+// piece (wheel omega/alpha, joint q/qd/qdd, pose residuals e_b and e_m to the reference node
+// nearest in time: a piece spans one or more reference edges whose nodes sit at fixed fractions
+// of its duration (reference_path.hpp, step 8); a sample at fraction j/kappa uses the node with
+// the nearest fraction, and both at half weight when exactly midway — for a one-edge piece,
+// node i when j < kappa/2, node i+1 when j > kappa/2), plus the boundary-heading term at the
+// global start and goal and the non-singular speed term (midend_settings.hpp). A piece of m
+// edges uses the kappa the reference path gives it (ReferenceSegment::intervals: about
+// samples_per_edge per edge, gear_sample_factor times more next to a gear switch).
 //
 // Rest boundaries: at the global start and goal v = a = 0 and the sampled wheel terms see only
 // the guarded (zero) rates. Near a rest instant t0, p_xy'(t) = (t - t0)^2 U(t) with
@@ -143,8 +146,9 @@ class MidendProblem {
     int q_offset = 0;     ///< first waypoint variable
     int tau_offset = 0;   ///< first time variable
     int pieces = 0;
-    std::vector<char> min_speed;  ///< per piece: apply the non-singular speed term
+    std::vector<double> min_speed;  ///< per piece: speed kept by the min-speed term (0: none), m/s
     std::vector<int> kappa;       ///< per piece: sampling intervals
+    std::vector<std::vector<double>> fractions;  ///< per piece: its nodes' time fractions
   };
   struct GearLayout {
     int offset = 0;       ///< [z (8), theta, qd (6), qdd (6)]

@@ -12,9 +12,12 @@ enum class LineSearch { kMoreThuente, kBacktrackingWolfe, kBacktrackingStrongWol
 
 struct MidendSettings {
   // --- Transcription ---------------------------------------------------------------------
-  /// kappa: trapezoid intervals per piece for every penalty integral (kappa + 1 samples).
-  /// Range [2, 64]. REMANI and GCOPTER use 16.
+  /// kappa: trapezoid intervals per piece for every penalty integral (kappa + 1 samples), at
+  /// least; a piece spanning several reference edges gets max(samples_per_piece,
+  /// samples_per_edge * edges). Range [2, 64]. REMANI and GCOPTER use 16.
   int samples_per_piece = 16;
+  /// Trapezoid intervals per reference edge of a piece (see samples_per_piece). [1, 64].
+  int samples_per_edge = 8;
   /// Pieces that touch a gear switch are sampled this many times more densely: near the switch
   /// the base runs at v_ns and its yaw rate/acceleration change fast. [1, 16].
   int gear_sample_factor = 4;
@@ -48,6 +51,10 @@ struct MidendSettings {
   /// defined and bounded (REMANI's non-singular speed). Normalized as 1 - |v|^2 / v_min^2.
   double weight_min_speed = 2e4;
   double min_speed_fraction = 1.0;
+  /// ... but on a piece the kept speed is at most this fraction of the reference's own mean
+  /// speed over it (base path / initial duration), so a piece where the front-end creeps (a long
+  /// arm motion over millimetres of base path) is not pushed past its nodes. (0, 1].
+  double slow_reference_fraction = 0.5;
   /// Weight of the rest-boundary heading term: at the global start and goal the base is at
   /// rest, so its direction of motion is the jerk's; this aligns eta * jerk with the node's
   /// yaw (cost weight * (1 - cos angle), gated to vanish when the base does not move). >= 0.
@@ -82,8 +89,17 @@ struct MidendSettings {
   /// the piece's duration is ~0.8 of the edge away from the start node, so edges must stay
   /// below ~1.2 rho for the residual to be satisfiable at all.
   double densify_factor = 1.2;
-  /// Upper bound on pieces inserted per front-end edge by densification. >= 1.
+  /// Upper bound on reference edges inserted per front-end edge by densification. >= 1.
   int max_pieces_per_edge = 16;
+  /// Grouping of reference edges into MINCO pieces (reference_path.hpp, step 8): a piece spans
+  /// at most this much base path (m), joint motion (Euclidean over the 6 joints, rad) and this
+  /// many edges. 1 edge per piece reproduces one piece per reference edge. > 0, >= 1.
+  double piece_length_m = 1.0;
+  double piece_arm_motion_rad = 1.0;
+  int max_edges_per_piece = 4;
+  /// Edges whose initial durations differ by more than this factor from the piece's first edge
+  /// start a new piece (acceleration zones keep their waypoints). >= 1.
+  double piece_duration_ratio = 1.5;
   /// Initial durations (reference_path.hpp, step 7): a speed profile along the base path at this
   /// fraction of the wheel speed / wheel acceleration / joint speed limits (rest at the goal and
   /// start, v_ns at gear switches). (0, 1]. 0.85 starts close to the optimum's duration (on

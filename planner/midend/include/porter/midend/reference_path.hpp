@@ -1,6 +1,7 @@
 #pragma once
-// The front-end path as the mid-end uses it: cleaned, regrouped into gear segments and densified
-// so that every MINCO piece joins two consecutive reference nodes.
+// The front-end path as the mid-end uses it: cleaned, regrouped into gear segments, densified
+// so that every reference edge is short against the residual bounds, and grouped into MINCO
+// pieces that each span one or more consecutive reference edges.
 //
 // From a WholeBodyPath (planner/common/.../whole_body_path.hpp), build_reference_path():
 //   1. rejects empty paths, non-finite values and eta not in {+1, -1};
@@ -14,15 +15,27 @@
 //   5. merges consecutive segments with the same eta;
 //   6. splits every edge longer than densify_factor * rho_b (base metric
 //      sqrt(|dp|^2 + w_phi dyaw^2)) or densify_factor * rho_m (joints) into equal sub-edges with
-//      linearly interpolated nodes (yaw along the shortest arc);
-//   7. allocates initial durations from a speed profile over all pieces: node speeds bounded by
-//      the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <= r omega_max), the
-//      joint speeds, 0 at the global start and goal, v_ns at gear switches, then forward/backward
-//      passes with the wheel acceleration bound (a <= r alpha_max), all at
-//      initial_speed_fraction of the limits; a piece lasts 2 L / (v_k + v_k+1), at least its
+//      linearly interpolated nodes (yaw along the shortest arc): the residual's reference nodes;
+//   7. allocates initial durations to every edge from a speed profile over all edges: node
+//      speeds bounded by the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <=
+//      r omega_max), the joint speeds, 0 at the global start and goal, v_ns at gear switches,
+//      then forward/backward passes with the wheel acceleration bound (a <= r alpha_max), all at
+//      initial_speed_fraction of the limits; an edge lasts 2 L / (v_k + v_k+1), at least its
 //      heading / joint motion at the limited rates and min_initial_piece_duration_s. The
 //      front-end's node times are not used (they are a plan's guess, often a cruise speed far
-//      below the limits).
+//      below the limits);
+//   8. groups consecutive edges into pieces (greedy along the segment): a piece ends before it
+//      would exceed piece_length_m of base path, piece_arm_motion_rad of joint motion or
+//      max_edges_per_piece edges; the edge next to a gear switch is a piece of its own (the base
+//      runs at v_ns there and turns fast; it is sampled gear_sample_factor times denser). A
+//      piece's initial duration is the sum of its edges'; each node inside a piece keeps the
+//      fraction of the piece's duration at which its edge times put it, so "the node nearest in
+//      time" (paper eq. pose_residual) is well defined when the optimizer rescales the piece;
+//      the fractions are rounded to multiples of 2 / kappa (see intervals).
+// Why grouping: the front-end drops a node every ~0.25 m and the densification adds one every
+// ~0.4 rad of arm motion, so one piece per edge gives 130-260 pieces on the tunnel and forest;
+// a quintic easily follows several such edges, and the optimizer's cost per iteration and its
+// iteration count both grow with the number of pieces.
 // Pure function; thread-safe.
 
 #include <string>
@@ -37,9 +50,28 @@ namespace porter::midend {
 
 struct ReferenceSegment {
   int eta = 1;
-  std::vector<RobotConfiguration> nodes;  ///< >= 2; piece i joins nodes[i] and nodes[i+1]
+  std::vector<RobotConfiguration> nodes;  ///< >= 2 reference nodes (front-end + densified)
+  /// Piece p spans nodes[knots[p]] .. nodes[knots[p + 1]]; knots.front() == 0 and
+  /// knots.back() == nodes.size() - 1 (num_pieces() + 1 entries, strictly increasing).
+  std::vector<int> knots;
+  /// Per node: the fraction of its piece's duration at which the node lies, in (0, 1) for a
+  /// node inside a piece and 0 for a knot (a knot is at fraction 1 of the piece it ends); see
+  /// fraction_in_piece().
+  std::vector<double> node_fraction;
   std::vector<double> durations_s;        ///< initial guess, one per piece
+  /// Trapezoid intervals (kappa) of each piece's penalty integrals: max(samples_per_piece,
+  /// samples_per_edge * edges, 2 * edges) rounded up to even, times gear_sample_factor next to
+  /// a gear switch, at most kMaxSamplesPerPiece. Interior node fractions are multiples of 2 / kappa, so the instant
+  /// midway between two nodes, where the nearest node changes, is always a sample.
+  std::vector<int> intervals;
+  static constexpr int kMaxSamplesPerPiece = 128;
   int num_pieces() const { return static_cast<int>(durations_s.size()); }
+  /// Number of reference edges of piece p.
+  int edges_in_piece(int p) const { return knots[p + 1] - knots[p]; }
+  /// The time fraction of node knots[p] + k inside piece p (k in [0, edges_in_piece(p)]).
+  double fraction_in_piece(int p, int k) const {
+    return k == edges_in_piece(p) ? 1.0 : node_fraction[knots[p] + k];
+  }
 };
 
 struct ReferencePath {
