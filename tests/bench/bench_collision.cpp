@@ -16,7 +16,8 @@
 // and "local" (64 configurations around each base pose drawn, as a search expanding one node or
 // an arm layer at one base waypoint sees them).
 // Columns: whole-body check() (environment + self-collision), then its environment part and its
-// self-collision part alone (each including forward kinematics), FCL on the first 2000 of the set.
+// self-collision part alone (each including forward kinematics), forward kinematics alone, FCL on
+// the first 2000 of the set.
 // FCL: every link as one BVH (OBBRSS) mesh, obstacles as meshes in a dynamic AABB tree, plus the
 // non-allowed link pairs; the ground and the map bounds are not modelled for FCL (less work).
 
@@ -134,8 +135,8 @@ void bench_scene(const std::string& name, bool quick) {
   const ConfigSets sets = make_sets(model, scene, checker, near, count, 2024);
   test::FclWorld fcl(model, scene.obstacles);
   const int fcl_count = quick ? 200 : 2000;
-  std::printf("%-20s %13s %9s %9s %9s %13s %7s\n", "set", "checks/s", "ns/check", "env ns", "self ns", "FCL checks/s",
-              "ratio");
+  std::printf("%-20s %13s %9s %9s %9s %7s %13s %7s\n", "set", "checks/s", "ns/check", "env ns", "self ns", "FK ns",
+              "FCL checks/s", "ratio");
   auto run = [&](const char* label, const std::vector<RobotConfiguration>& v) {
     int sink = 0;
     const double tk = best_time(5, [&] {
@@ -147,14 +148,21 @@ void bench_scene(const std::string& name, bool quick) {
     const double ts = best_time(5, [&] {
       for (const auto& c : v) sink += checker.check_self(c.q_rad).in_collision;
     });
+    ArmPoses poses;
+    const double tq = best_time(5, [&] {
+      for (const auto& c : v) {
+        checker.kinematics().compute(c.q_rad, poses);
+        sink += poses.T_B_L[kEndEffectorLink].t[0] > 1e9f;
+      }
+    });
     const std::vector<RobotConfiguration> sub(v.begin(), v.begin() + std::min<std::size_t>(v.size(), fcl_count));
     const double tf = best_time(1, [&] {
       for (const auto& c : sub) sink += fcl.in_collision(c);
     });
     const double n = static_cast<double>(v.size());
     const double kernel_rate = n / tk, fcl_rate = static_cast<double>(sub.size()) / tf;
-    std::printf("%-20s %13.3g %9.1f %9.1f %9.1f %13.3g %6.0fx%s\n", label, kernel_rate, 1e9 * tk / n, 1e9 * te / n,
-                1e9 * ts / n, fcl_rate, kernel_rate / fcl_rate, sink < 0 ? "!" : "");
+    std::printf("%-20s %13.3g %9.1f %9.1f %9.1f %7.1f %13.3g %6.0fx%s\n", label, kernel_rate, 1e9 * tk / n,
+                1e9 * te / n, 1e9 * ts / n, 1e9 * tq / n, fcl_rate, kernel_rate / fcl_rate, sink < 0 ? "!" : "");
   };
   run("free-near scattered", sets.free_scattered);
   run("free-near local", sets.free_local);

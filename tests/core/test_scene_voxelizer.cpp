@@ -61,7 +61,7 @@ TEST(SceneVoxelizer, MatchesPerVoxelExactReference) {
     for (int iz = 0; iz < n.z(); ++iz)
       for (int iy = 0; iy < n.y(); ++iy)
         for (int ix = 0; ix < n.x(); ++ix)
-          if (shape_intersects_aabb(c.shape, ref.voxel_box_W(ix, iy, iz))) ref.set(ix, iy, iz);
+          if (shape_intersects_aabb(c.shape, voxelization_box_W(ref, ix, iy, iz))) ref.set(ix, iy, iz);
     EXPECT_GT(ref.count(), 0) << c.name;
     EXPECT_EQ(fast.words(), ref.words()) << c.name << ": fast " << fast.count() << " vs reference " << ref.count();
   }
@@ -104,17 +104,33 @@ TEST(SceneVoxelizer, ShapesPartlyOrWhollyOutsideTheGrid) {
   CollisionShape far = place(Sphere{0.5}, Eigen::Isometry3d(Eigen::Translation3d(10, 0, 0)));
   voxelize_shape(far, g);
   EXPECT_EQ(g.count(), 0);
-  // A slab crossing the whole grid: exactly the voxels whose boxes meet z in [-0.05, 0.05].
+  // A slab crossing the whole grid: exactly the voxels that z in [-0.05, 0.05] reaches into.
   CollisionShape slab = place(Box{Eigen::Vector3d(100, 100, 0.1)}, Eigen::Isometry3d::Identity());
   voxelize_shape(slab, g);
   OccupancyGrid ref = test_grid(0.1);
   for (int iz = 0; iz < ref.dims().z(); ++iz)
     for (int iy = 0; iy < ref.dims().y(); ++iy)
       for (int ix = 0; ix < ref.dims().x(); ++ix)
-        if (shape_intersects_aabb(slab, ref.voxel_box_W(ix, iy, iz))) ref.set(ix, iy, iz);
+        if (shape_intersects_aabb(slab, voxelization_box_W(ref, ix, iy, iz))) ref.set(ix, iy, iz);
   EXPECT_EQ(g.words(), ref.words());
   EXPECT_GE(g.count(), 40 * 40);
   EXPECT_LE(g.count(), 3 * 40 * 40);
+}
+
+TEST(SceneVoxelizer, GridAlignedBoxOccupiesExactlyItsVoxels) {
+  // Faces on voxel faces: the voxels beyond them stay free, so aligned openings keep their width.
+  OccupancyGrid g = test_grid(0.1);
+  const CollisionShape box = place(Box{Eigen::Vector3d(0.4, 0.3, 0.2)},
+                                   Eigen::Isometry3d(Eigen::Translation3d(-0.8, -0.75, -0.7)));
+  voxelize_shape(box, g);
+  EXPECT_EQ(g.count(), 4 * 3 * 2);
+  EXPECT_TRUE(g.occupied_at(Eigen::Vector3d(-0.95, -0.85, -0.75)));
+  EXPECT_FALSE(g.occupied_at(Eigen::Vector3d(-1.05, -0.85, -0.75)));  // just beyond the -x face
+  EXPECT_FALSE(g.occupied_at(Eigen::Vector3d(-0.95, -0.85, -0.55)));  // just above the top face
+  // Reaching 1 mm past a face occupies the next layer.
+  OccupancyGrid h = test_grid(0.1);
+  voxelize_shape(place(Box{Eigen::Vector3d(0.4, 0.3, 0.202)}, Eigen::Isometry3d(Eigen::Translation3d(-0.8, -0.75, -0.7))), h);
+  EXPECT_EQ(h.count(), 4 * 3 * 4);
 }
 
 TEST(SceneVoxelizer, OpenMeshGivesOnlySurfaceVoxels) {
@@ -136,7 +152,7 @@ TEST(SceneVoxelizer, ShippedForestAgreesWithReferenceAtRandomVoxels) {
   int occupied = 0;
   for (int k = 0; k < 20000; ++k) {
     const Eigen::Vector3i i(rng() % g.dims().x(), rng() % g.dims().y(), rng() % g.dims().z());
-    const Eigen::AlignedBox3d box = g.voxel_box_W(i.x(), i.y(), i.z());
+    const Eigen::AlignedBox3d box = voxelization_box_W(g, i.x(), i.y(), i.z());
     bool ref = false;
     for (const auto& o : s.obstacles) ref = ref || shape_intersects_aabb(o, box);
     ASSERT_EQ(g.occupied(i), ref) << i.transpose();

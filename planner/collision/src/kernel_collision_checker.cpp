@@ -26,7 +26,13 @@ KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const Ke
       kinematics_(model),
       self_(model, settings.self),
       map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers()),
-      motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {}
+      motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {
+  // d_j in voxels, squared, grown by 1e-4 voxel for float32 rounding (robot_kernels.hpp).
+  for (int j = 1; j < kNumLinks; ++j) {
+    const double r = kernels_.kernel_radius_m(j) / kernels_.resolution_m() + 1e-4;
+    kernel_reach2_vox_[static_cast<std::size_t>(j)] = static_cast<float>(r * r);
+  }
+}
 
 void KernelCollisionChecker::set_map(const OccupancyGrid& occupancy_W) {
   const double h = kernels_.resolution_m();
@@ -59,6 +65,7 @@ bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
   const float scale = static_cast<float>(units_per_voxel / kernels_.resolution_m());
   const MapKernel& map = map_;
   const PointTreePool& pool = kernels_.link_pool(link);
+  const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
   if (pool.tree_begin(sample) == pool.tree_end(sample)) return false;
   // The root sphere first, without composing the full transform (most links are clear).
   const PointTreeNode& root = pool.nodes()[pool.tree_begin(sample)];
@@ -74,7 +81,8 @@ bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
       },
       [&](float x, float y, float z) {
         const v4f u = T_V_J.apply(x, y, z);
-        return map.arm_bit(static_cast<int>(u[0]), static_cast<int>(u[1]), static_cast<int>(u[2]));
+        return map.arm_bit(static_cast<int>(u[0]), static_cast<int>(u[1]), static_cast<int>(u[2])) &&
+               map.arm_near(u[0], u[1], u[2], reach2);
       },
       true);
 }

@@ -38,6 +38,7 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
   occ_.assign(n_words, 0);
   base_.assign(n_words, 0);
   arm_.assign(n_words, 0);
+  core_.assign(n_words, 0);
   edge_mask_.assign(static_cast<std::size_t>(words_per_row_), 0);
   for (std::int64_t x = 0; x < row_bits_; ++x)
     if (x < pad_ || x >= pad_ + grid_dims_.x())
@@ -168,6 +169,10 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
         for (std::int64_t w = 0; w < W; ++w)
           b[w] = out_b ? ~std::uint64_t{0} : (m[w] | edge_mask_[static_cast<std::size_t>(w)]);
       }
+      std::uint64_t* c = &core_[static_cast<std::size_t>(row(y, z) * W)];
+      const bool out_c = outside_arm_row(y, z);
+      for (std::int64_t w = 0; w < W; ++w)
+        c[w] = out_c ? ~std::uint64_t{0} : (m[w] | edge_mask_[static_cast<std::size_t>(w)]);
       std::uint64_t* a = &arm_[static_cast<std::size_t>(row(y, z) * W)];
       std::fill(a, a + W, 0);
       bool full = false;
@@ -245,8 +250,14 @@ bool MapKernel::in_arm(int x, int y, int z) const {
   return arm_bit(x, y, z);
 }
 
+bool MapKernel::in_core(int x, int y, int z) const {
+  if (x < 0 || y < 0 || z < 0 || x >= dims_.x() || y >= dims_.y() || z >= dims_.z()) return false;
+  const std::int64_t b = row(y, z) * row_bits_ + x;
+  return (core_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
+}
+
 std::size_t MapKernel::bytes() const {
-  return (occ_.size() + base_.size() + arm_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
+  return (occ_.size() + base_.size() + arm_.size() + core_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
          sat_.size() * sizeof(std::int32_t) + clearance_.size();
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "porter/planner/collision/link_distance.hpp"
 
@@ -49,6 +50,8 @@ RobotKernels::RobotKernels(const RobotModel& model, const RobotKernelSettings& s
     : res_(settings.resolution_m), leaf_size_(std::max(1, settings.leaf_size)) {
   if (!(res_ > 0.0) || !std::isfinite(res_)) throw std::invalid_argument("RobotKernels: resolution_m must be > 0");
   if (model.links[0].shapes.empty()) throw std::invalid_argument("RobotKernels: the base link has no geometry");
+  if (settings.lattice_subdivision < 1) throw std::invalid_argument("RobotKernels: lattice_subdivision must be >= 1");
+  spacing_ = res_ / settings.lattice_subdivision;
   radii_ = compute_chain_radii(model);
   // Yaw moves base points horizontally only: the radius about the vertical axis is what counts.
   // Distance to the axis <= distance to any point of it; take the shape's mid-height.
@@ -62,6 +65,10 @@ RobotKernels::RobotKernels(const RobotModel& model, const RobotKernelSettings& s
   if (n_yaw <= 0) n_yaw = std::max(8, static_cast<int>(std::ceil(base_horizontal_radius_ * kPi / target)));
   build_base(model, n_yaw);
   for (int j = 1; j < kNumLinks; ++j) build_link(model, j, target);
+  for (int j = 1; j < kNumLinks; ++j)
+    if (kernel_radius_[static_cast<std::size_t>(j)] >= res_)
+      throw std::invalid_argument("RobotKernels: kernel radius of link " + std::to_string(j) +
+                                  " reaches a voxel; lower max_sample_error_m or raise lattice_subdivision");
   // Every kernel point lies within reach + d_j of the base origin, every base offset within
   // reach + e_0 + 2 voxels (one for the origin's position in its voxel, one for the box).
   double slack = sample_error_[0] + 2.0 * res_;
@@ -71,7 +78,7 @@ RobotKernels::RobotKernels(const RobotModel& model, const RobotKernelSettings& s
 
 double RobotKernels::inflation_bound_m(int link) const {
   if (link == 0) return std::sqrt(2.0) * (res_ + sample_error_[0]) + sample_error_[0];
-  return 1.5 * kSqrt3 * res_ + 2.0 * sample_error_[static_cast<std::size_t>(link)];
+  return kSqrt3 * spacing_ + 3.0 * sample_error_[static_cast<std::size_t>(link)];
 }
 
 int RobotKernels::base_sample(double yaw_rad) const {
@@ -180,14 +187,14 @@ void RobotKernels::build_link(const RobotModel& model, int link, double target_e
   const auto j = static_cast<std::size_t>(link);
   const LinkDistance geometry(model.links[j].shapes);
   PointTreePool& pool = pools_[j];
-  const double base_radius = 0.5 * kSqrt3 * res_;
+  const double base_radius = 0.5 * kSqrt3 * spacing_;
   if (link == kEndEffectorLink) {
     num_samples_[j] = 1;
     sample_error_[j] = 0.0;
     kernel_radius_[j] = base_radius;
     Eigen::AlignedBox3d b = geometry.bounds();
     if (!b.isEmpty()) b = Eigen::AlignedBox3d(b.min().array() - base_radius, b.max().array() + base_radius);
-    pool.add_tree(lattice_points_within(geometry, Eigen::Isometry3d::Identity(), res_, base_radius, b), leaf_size_);
+    pool.add_tree(lattice_points_within(geometry, Eigen::Isometry3d::Identity(), spacing_, base_radius, b), leaf_size_);
     return;
   }
   const ArmJoint& joint = model.joints[j - 1];
@@ -208,7 +215,7 @@ void RobotKernels::build_link(const RobotModel& model, int link, double target_e
     b.setEmpty();
     for (const auto& s : model.links[j].shapes) b.extend(shape_bounds(s, T_J_L));
     if (!b.isEmpty()) b = Eigen::AlignedBox3d(b.min().array() - kernel_radius_[j], b.max().array() + kernel_radius_[j]);
-    pool.add_tree(lattice_points_within(geometry, T_J_L.inverse(), res_, kernel_radius_[j], b), leaf_size_);
+    pool.add_tree(lattice_points_within(geometry, T_J_L.inverse(), spacing_, kernel_radius_[j], b), leaf_size_);
   }
 }
 

@@ -130,7 +130,7 @@ TEST_F(CheckerCases, MapUpdatesMatchAFreshChecker) {
   EXPECT_FALSE(checker_->check(c).in_collision);
   // A pillar appears next to the robot: the next map (same lattice) is an incremental update.
   const OccupancyGrid pillar =
-      grid_with({box_at({1.5, 0.0, 1.0}, {0.2, 2.0, 2.0}), box_at({0.0, 0.45, 1.0}, {0.2, 0.2, 2.0})}, kRoom);
+      grid_with({box_at({1.5, 0.0, 1.0}, {0.2, 2.0, 2.0}), box_at({0.0, 0.35, 1.0}, {0.2, 0.2, 2.0})}, kRoom);
   checker_->set_map(pillar);
   EXPECT_TRUE(checker_->last_map_update().incremental);
   EXPECT_GT(checker_->last_map_update().changed_voxels, 0);

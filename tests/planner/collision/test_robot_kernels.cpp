@@ -96,7 +96,8 @@ TEST_F(RobotKernelsTest, BaseOffsetsHoldEveryVoxelTheBaseMeetsWithinItsBin) {
 }
 
 TEST_F(RobotKernelsTest, NearestLatticePointOfAnyLinkPointIsInTheSelectedKernel) {
-  const double h = kernels_->resolution_m();
+  const double h = kernels_->lattice_spacing_m();
+  EXPECT_NEAR(h, kernels_->resolution_m() / RobotKernelSettings{}.lattice_subdivision, 1e-15);
   std::mt19937_64 rng(22);
   for (int link = 1; link < kNumLinks; ++link) {
     const Link& L = model_->links[static_cast<std::size_t>(link)];
@@ -164,11 +165,23 @@ TEST_F(RobotKernelsTest, SamplesCoverTheLimitsAndNothingBeyond) {
 
 // The map padding is max_extent_voxels(): no kernel point or offset may reach farther from the
 // base origin, whatever the configuration, also for coarse sampling settings.
+TEST(RobotKernels, RefusesKernelRadiiOfAVoxelOrMore) {
+  // The neighbourhood test of a kernel point only looks one voxel around it (robot_kernels.hpp).
+  const RobotModel model = test::shipped_robot();
+  RobotKernelSettings s;
+  s.lattice_subdivision = 1;
+  s.max_sample_error_m = 0.01;  // d_j = 4.3 + 1 cm > 5 cm
+  EXPECT_THROW(RobotKernels(model, s), std::invalid_argument);
+  s.lattice_subdivision = 0;
+  EXPECT_THROW(RobotKernels(model, s), std::invalid_argument);
+}
+
 TEST(RobotKernels, EverythingStaysWithinTheStatedExtent) {
   const RobotModel model = test::shipped_robot_with("arc");
   RobotKernelSettings coarse;
   coarse.base_yaw_samples = 8;
-  coarse.max_sample_error_m = 0.08;
+  coarse.max_sample_error_m = 0.006;  // with a lattice of one voxel: d_j = 4.3 + 0.6 cm, just under h
+  coarse.lattice_subdivision = 1;
   for (const RobotKernelSettings& settings : {RobotKernelSettings{}, coarse}) {
     const RobotKernels kernels(model, settings);
     const double h = kernels.resolution_m();

@@ -37,6 +37,7 @@
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs
 // exclusive access.
 
+#include <array>
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -97,6 +98,7 @@ class KernelCollisionChecker final : public CollisionChecker {
   const RobotKernels& kernels() const { return kernels_; }
   const MapKernel& map_kernel() const { return map_; }
   const SelfCollisionChecker& self_collision() const { return self_; }
+  const KernelKinematics& kinematics() const { return kinematics_; }
 
  private:
   bool base_hit(int bx, int by, int yaw_sample) const;
@@ -110,6 +112,7 @@ class KernelCollisionChecker final : public CollisionChecker {
   MapKernel map_;
   MapUpdateStats last_update_;
   double motion_step_m_ = 0.0;
+  std::array<float, kNumLinks> kernel_reach2_vox_{};  ///< (d_j / h)^2 per link, for MapKernel::arm_near
 };
 
 }  // namespace porter::planner

@@ -15,9 +15,11 @@
 //   base  O_m  ∪ voxels outside the grid horizontally or above its top (or between the ground
 //         and the grid's bottom when the grid starts above z = 0). Voxels below the ground are
 //         NOT set: the ground is not an obstacle for the base. Tested by the base kernel K^0.
-//   arm   dilate26(O_m ∪ every voxel outside the grid ∪ every voxel below the ground z = 0),
-//         the 26-neighbourhood dilation the point kernels K^1..K^7 need to be conservative
-//         (see robot_kernels.hpp). Tested by the arm and payload kernels.
+//   core  O_m ∪ every voxel outside the grid ∪ every voxel below the ground z = 0: what the
+//         arm and the payload must not touch.
+//   arm   dilate26(core), the 26-neighbourhood dilation: a point of a kernel K^1..K^7 closer
+//         than one voxel to a core voxel lies in it (see robot_kernels.hpp). A set bit is the
+//         cheap first test; arm_near() then decides from the exact distance to the core voxels.
 // The ground z = 0 must be a voxel boundary (o_z / h an integer); set_map() throws
 // std::invalid_argument otherwise. Its padded layer index is ground_layer().
 //
@@ -86,6 +88,30 @@ class MapKernel {
     const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
     return (arm_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
   }
+  /// Whether the point at padded voxel coordinates u lies within sqrt(r2) voxels (Euclidean,
+  /// closed) of the box of a core voxel, for r2 < 1: only the 27 voxels around u's voxel can be
+  /// that close. Precondition: u's voxel and its neighbours are inside the padded array.
+  bool arm_near(float ux, float uy, float uz, float r2) const {
+    const int cx = static_cast<int>(ux), cy = static_cast<int>(uy), cz = static_cast<int>(uz);
+    const float fx = ux - static_cast<float>(cx), fy = uy - static_cast<float>(cy), fz = uz - static_cast<float>(cz);
+    // Squared gap to the neighbour at offset -1, 0, +1 along each axis.
+    const float gx[3] = {fx * fx, 0.f, (1.f - fx) * (1.f - fx)};
+    const float gy[3] = {fy * fy, 0.f, (1.f - fy) * (1.f - fy)};
+    const float gz[3] = {fz * fz, 0.f, (1.f - fz) * (1.f - fz)};
+    for (int dz = 0; dz < 3; ++dz)
+      for (int dy = 0; dy < 3; ++dy) {
+        const float gyz = gy[dy] + gz[dz];
+        if (gyz > r2) continue;
+        const std::int64_t b = static_cast<std::int64_t>(row(cy + dy - 1, cz + dz - 1)) * row_bits_ + (cx - 1);
+        const std::size_t w = static_cast<std::size_t>(b >> 6);
+        const int s = static_cast<int>(b & 63);
+        const std::uint64_t bits3 = ((core_[w] >> s) | ((core_[w + 1] << 1) << (63 - s))) & 7u;
+        if (!bits3) continue;
+        for (int dx = 0; dx < 3; ++dx)
+          if (((bits3 >> dx) & 1u) && gx[dx] + gyz <= r2) return true;
+      }
+    return false;
+  }
   /// 64 bits of the base set starting at padded x in row (y, z): bit i is voxel x + i.
   std::uint64_t base_window(int x, int y, int z) const {
     const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
@@ -120,6 +146,7 @@ class MapKernel {
   bool in_margin(int x, int y, int z) const;  ///< O_m
   bool in_base(int x, int y, int z) const;
   bool in_arm(int x, int y, int z) const;
+  bool in_core(int x, int y, int z) const;
 
   std::size_t bytes() const;
 
@@ -145,7 +172,7 @@ class MapKernel {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   int ground_ = 0;
   std::int64_t words_per_row_ = 0, row_bits_ = 0;
-  std::vector<std::uint64_t> occ_, base_, arm_;  ///< O, base set, arm set (padded rows)
+  std::vector<std::uint64_t> occ_, base_, arm_, core_;  ///< O, base, arm and core sets (padded rows)
   std::vector<std::uint64_t> edge_mask_;         ///< one row: bits outside the grid's x range
   std::vector<std::int32_t> sat_;                ///< (Nx + 1) x (Ny + 1) summed-area table
   Eigen::Vector3i cells_ = Eigen::Vector3i::Zero();

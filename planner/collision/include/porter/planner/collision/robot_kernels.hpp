@@ -19,21 +19,26 @@
 //
 // K^j, j = 1..6: link j's geometry, in the frame J_j (parent frame after joint j's origin, before
 // its rotation), voxelized for N_j samples alpha_k = lower + k (upper - lower) / (N_j - 1) of q_j:
-// the points of the lattice h Z^3 of J_j within d_j = h sqrt(3)/2 + e_j of the geometry rotated
-// by alpha_k, with e_j = r_j (upper - lower) / (2 (N_j - 1)) (r_j: largest distance of the link
-// from joint j's origin; the nearest sample moves a link point at most r_j * step / 2).
-// K^7: gripper + payload in the EE frame, one kernel (no joint), d_7 = h sqrt(3)/2.
+// the points of the lattice s Z^3 of J_j (s = h / lattice_subdivision) within
+// d_j = s sqrt(3)/2 + e_j of the geometry rotated by alpha_k, with
+// e_j = r_j (upper - lower) / (2 (N_j - 1)) (r_j: largest distance of the link from joint j's
+// origin; the nearest sample moves a link point at most r_j * step / 2).
+// K^7: gripper + payload in the EE frame, one kernel (no joint), d_7 = s sqrt(3)/2.
 // Each kernel is a sphere tree (point_tree.hpp). A query transforms the points of the sample
-// nearest q_j by T_W_J and tests one bit each in the map kernel's arm set.
-// Why that is conservative: let x be a point of link j at the query, inside a voxel V that is
-// occupied / outside / below ground. The lattice point k nearest to x (in J_j) is within
-// h sqrt(3)/2 of x, and x rotated back to alpha_k lies in the sampled geometry within e_j of x,
-// so k is in K^j. Its world image lies within h sqrt(3)/2 < h of x, hence in V or one of V's 26
-// neighbours, all of which the arm set holds (map_kernel.hpp). Float32 rounding (< 1e-4 voxel)
-// is far below the slack h (1 - sqrt(3)/2).
-// Inflation bound: a link flagged in collision is within (3 sqrt(3)/2) h + 2 e_j of an
-// occupied / outside / below-ground voxel (the image is within h sqrt(3)/2 + 2 e_j of the link
-// and inside a voxel that touches one).
+// nearest q_j by T_W_J; a point hits when it lies within d_j of the box of a core voxel
+// (occupied / outside / below ground, map_kernel.hpp): one bit of the map kernel's dilated arm
+// set first, then the exact point-to-box distances of the 27 voxels around it (MapKernel::arm_near).
+// Why that is conservative: let x be a point of link j at the query, inside a core voxel V. The
+// lattice point k nearest to x (in J_j) is within s sqrt(3)/2 of x, and x rotated back to
+// alpha_k lies in the sampled geometry within e_j of x, so k is in K^j. Its world image u lies
+// within s sqrt(3)/2 + e_j = d_j of x, hence within d_j of V's box; d_j < h (checked at build
+// time), so V is u's voxel or one of its 26 neighbours and u is in the dilated arm set. The
+// distance test uses d_j grown by 1e-4 voxel for float32 rounding of poses and points.
+// Inflation bound: a link flagged in collision is within 2 d_j + e_j = s sqrt(3) + 3 e_j of a
+// core voxel (u is within d_j of the sampled geometry, which is within e_j of the link, and
+// within d_j of the voxel). With the default s = h / 2 and e_j <= h / 10 that is 0.17 h + 0.87 h
+// ~ 5.8 cm at h = 5 cm; a lattice of spacing h with a one-voxel dilation would allow
+// (3 sqrt(3)/2) h + 2 e_j ~ 14 cm, enough to close the passages the payload is meant to fit.
 //
 // Counts grow as N_0 + sum N_j + 1, never as a product. Joint values outside
 // [lower - step/2, upper + step/2] have no sample (joint_sample returns -1).
@@ -60,6 +65,9 @@ struct RobotKernelSettings {
   double max_sample_error_m = 0.0;
   /// N_0; 0 derives it from max_sample_error_m and the base radius.
   int base_yaw_samples = 0;
+  /// Point lattice of K^1..K^7: spacing s = resolution_m / lattice_subdivision (>= 1). Finer
+  /// means less inflation (see above) and more points; d_j must stay below one voxel.
+  int lattice_subdivision = 2;
   /// Largest number of points in a sphere-tree leaf.
   int leaf_size = 16;
 };
@@ -89,7 +97,9 @@ class RobotKernels {
   int num_samples(int link) const { return num_samples_[static_cast<std::size_t>(link)]; }
   /// e_j (m) actually achieved; 0 for link 7.
   double sample_error_m(int link) const { return sample_error_[static_cast<std::size_t>(link)]; }
-  /// d_j = h sqrt(3)/2 + e_j (links 1..7).
+  /// Lattice spacing s of the point kernels (m).
+  double lattice_spacing_m() const { return spacing_; }
+  /// d_j = s sqrt(3)/2 + e_j (links 1..7).
   double kernel_radius_m(int link) const { return kernel_radius_[static_cast<std::size_t>(link)]; }
   /// Environment inflation bound of the link (m), see the header comment.
   double inflation_bound_m(int link) const;
@@ -133,6 +143,7 @@ class RobotKernels {
   void build_link(const RobotModel& model, int link, double target_error_m);
 
   double res_ = 0.0;
+  double spacing_ = 0.0;
   double base_horizontal_radius_ = 0.0;
   int leaf_size_ = 16;
   ChainRadii radii_;
