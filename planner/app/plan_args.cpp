@@ -15,9 +15,15 @@ const char* to_string(Stages s) {
   return "unknown";
 }
 
+const char* to_string(SafetyArg s) { return s == SafetyArg::kKcSvsdf ? "kc_svsdf" : "svsdf_per_link"; }
+
+const char* to_string(CollisionArg c) { return c == CollisionArg::kKernels ? "kernels" : "spheres"; }
+
 std::string plan_usage() {
   return "usage: porter-plan --scene FILE [--seed N] [--set NAME=VALUE]... [--payload FILE]\n"
          "                   [--robot FILE] [--stages front|mid|full] [--frontend-budget-ms MS]\n"
+         "                   [--midend-budget-ms MS] [--backend-budget-ms MS] [--backend-iterations N]\n"
+         "                   [--safety kc_svsdf|svsdf_per_link] [--collision kernels|spheres]\n"
          "                   [--out FILE] [--quiet]\n"
          "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
          "  --seed N                seed of the scene's random obstacles and of the planner\n"
@@ -27,10 +33,20 @@ std::string plan_usage() {
          "  --robot FILE            robot.yaml (default: the shipped Scout Mini + Piper)\n"
          "  --stages S              front (path search only), mid (+ MINCO mid-end), full (+ back-end)\n"
          "  --frontend-budget-ms MS front-end time budget (default 1000)\n"
+         "  --midend-budget-ms MS   mid-end optimization budget (default 100)\n"
+         "  --backend-budget-ms MS  back-end optimization budget (default 300)\n"
+         "  --backend-iterations N  back-end L-BFGS iteration cap (default 200); with a large\n"
+         "                          budget the run no longer depends on the machine's speed\n"
+         "  --safety S              back-end safety term: kc_svsdf (KC-SVSDF, default) or\n"
+         "                          svsdf_per_link (each link's SVSDF alone, the ablation baseline)\n"
+         "  --collision C           kernels (default) or spheres (sphere-ESDF baseline in the\n"
+         "                          front-end and as the back-end term; not with --safety); the\n"
+         "                          final re-check is by kernels either way\n"
          "  --out FILE              write the JSON result there\n"
          "  --quiet                 print nothing on success\n"
-         "exit codes: 0 success, 1 planning failed, 2 bad arguments, 3 unreadable/invalid file or\n"
-         "            unwritable output, 4 invalid start or goal, 5 stage not available\n";
+         "exit codes: 0 success, 1 planning failed (incl. a final trajectory in collision), 2 bad\n"
+         "            arguments, 3 unreadable/invalid file or unwritable output, 4 invalid start\n"
+         "            or goal, 5 a requested component is unavailable (cannot be built)\n";
 }
 
 namespace {
@@ -89,6 +105,26 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
     } else if (flag == "--frontend-budget-ms") {
       a.frontend_budget_ms = parse_number(flag, value());
       if (!(a.frontend_budget_ms > 0.0)) throw ArgsError("--frontend-budget-ms must be > 0");
+    } else if (flag == "--midend-budget-ms" || flag == "--backend-budget-ms") {
+      const double ms = parse_number(flag, value());
+      if (!(ms > 0.0)) throw ArgsError(flag + " must be > 0");
+      (flag == "--midend-budget-ms" ? a.midend_budget_ms : a.backend_budget_ms) = ms;
+    } else if (flag == "--backend-iterations") {
+      const std::string v = value();
+      if (v.empty() || v.size() > 9 || v.find_first_not_of("0123456789") != std::string::npos || std::stoi(v) < 1)
+        throw ArgsError("--backend-iterations: '" + v + "' is not a positive integer");
+      a.backend_max_iterations = std::stoi(v);
+    } else if (flag == "--safety") {
+      const std::string s = value();
+      if (s == "kc_svsdf") a.safety = SafetyArg::kKcSvsdf;
+      else if (s == "svsdf_per_link") a.safety = SafetyArg::kSvsdfPerLink;
+      else throw ArgsError("--safety: expected kc_svsdf or svsdf_per_link, got '" + s + "'");
+      a.safety_given = true;
+    } else if (flag == "--collision") {
+      const std::string c = value();
+      if (c == "kernels") a.collision = CollisionArg::kKernels;
+      else if (c == "spheres") a.collision = CollisionArg::kSpheres;
+      else throw ArgsError("--collision: expected kernels or spheres, got '" + c + "'");
     } else if (flag == "--out") {
       a.out_path = value();
     } else if (flag == "--quiet") {
@@ -98,6 +134,8 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
     }
   }
   if (!a.help && a.scene_path.empty()) throw ArgsError("--scene is required");
+  if (a.safety_given && a.collision == CollisionArg::kSpheres)
+    throw ArgsError("--safety does not apply with --collision spheres (the back-end uses the sphere term)");
   return a;
 }
 

@@ -17,6 +17,13 @@ struct ArgsError : std::runtime_error {
 enum class Stages { kFront, kMid, kFull };
 const char* to_string(Stages s);
 
+/// The back-end safety term (--safety): ours or the paper's ablation baseline.
+enum class SafetyArg { kKcSvsdf, kSvsdfPerLink };
+const char* to_string(SafetyArg s);
+/// The collision model (--collision): the front-end checker and, for spheres, the back-end term.
+enum class CollisionArg { kKernels, kSpheres };
+const char* to_string(CollisionArg c);
+
 struct PlanArgs {
   std::string scene_path;
   std::uint64_t seed = 0;
@@ -26,6 +33,12 @@ struct PlanArgs {
   std::string robot_path;                   ///< robot.yaml
   Stages stages = Stages::kFront;
   double frontend_budget_ms = 1000.0;
+  double midend_budget_ms = 100.0;
+  double backend_budget_ms = 300.0;
+  int backend_max_iterations = 200;         ///< L-BFGS cap (with a large budget: reproducible runs)
+  SafetyArg safety = SafetyArg::kKcSvsdf;
+  bool safety_given = false;                ///< --safety was on the command line
+  CollisionArg collision = CollisionArg::kKernels;
   std::optional<std::string> out_path;
   bool quiet = false;
   bool help = false;

@@ -53,12 +53,50 @@ json path_json(const planner::WholeBodyPath& path) {
               {"segments", std::move(segs)}};
 }
 
+json safety_json(const backend::BackendCost& c) {
+  const double min_d = c.safety_stats.min_distance_m;
+  return json{{"total", c.total()},
+              {"safety", c.safety},
+              {"violations", c.safety_stats.violations},
+              {"inside", c.safety_stats.inside},
+              {"min_distance_m", std::isfinite(min_d) ? json(min_d) : json(nullptr)}};
+}
+
+json backend_json(const BackendRun& run) {
+  const backend::BackendResult& r = run.result;
+  json check = r.check == backend::SafetyCheck::kNotChecked
+                   ? json(nullptr)
+                   : json{{"checker", "kernels"},
+                          {"collision_free", r.check == backend::SafetyCheck::kCollisionFree},
+                          {"collision_link", r.collision_link},
+                          {"time_ms", r.check_s * 1e3}};
+  json out{{"status", backend::to_string(r.status)},
+           {"reason", r.message},
+           {"success", r.success()},
+           {"safety_model", run.safety_model},
+           {"time_ms", r.elapsed_s * 1e3},
+           {"budget_ms", run.budget_s * 1e3},
+           {"optimize_ms", r.optimize_s * 1e3},
+           {"safety_ms", r.safety_s * 1e3},
+           {"setup_ms", run.setup_s * 1e3},
+           {"iterations", r.iterations},
+           {"evaluations", r.evaluations},
+           {"num_pieces", r.num_pieces},
+           {"num_variables", r.num_variables},
+           {"final_check", std::move(check)},
+           {"initial_cost", safety_json(r.initial_cost)},
+           {"final_cost", r.ok() ? safety_json(r.final_cost) : json(nullptr)}};
+  out["duration_s"] = r.trajectory ? json(r.trajectory->total_duration_s()) : json(nullptr);
+  return out;
+}
+
 }  // namespace
 
 std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendResult* fe, const std::string& status,
-                             int exit_code, const std::string& error, const midend::MidendResult* mid) {
+                             int exit_code, const std::string& error, const midend::MidendResult* mid,
+                             const BackendRun* be, const FinalCheck* final_check) {
   json doc;
-  doc["format"] = "porter-plan-result/1";
+  doc["format"] = "porter-plan-result/2";
   doc["status"] = status;
   doc["exit_code"] = exit_code;
   doc["error"] = error;
@@ -68,6 +106,10 @@ std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendRe
   doc["payload_file"] = info.payload_file;
   doc["checker"] = info.checker;
   doc["stages"] = info.stages;
+  doc["collision"] = info.collision;
+  doc["safety"] = info.safety;
+  doc["budgets_ms"] = json{{"frontend", info.frontend_budget_ms}, {"midend", info.midend_budget_ms},
+                           {"backend", info.backend_budget_ms}};
   if (fe) {
     doc["frontend"] = json{{"status", frontend::to_string(fe->status)},
                            {"message", fe->message},
@@ -103,6 +145,16 @@ std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendRe
       doc["midend"]["duration_s"] = mid->trajectory->total_duration_s();
       doc["trajectory"] = json::parse(to_json(*mid->trajectory));
     }
+  }
+  doc["backend"] = be ? backend_json(*be) : json(nullptr);
+  if (be && be->result.trajectory) doc["trajectory"] = json::parse(to_json(*be->result.trajectory));
+  doc["final_check"] = nullptr;
+  if (final_check) {
+    doc["final_check"] = json{{"checker", "kernels"},
+                              {"stage", final_check->stage},
+                              {"collision_free", final_check->collision_free},
+                              {"collision_link", final_check->collision_link},
+                              {"check_ms", final_check->check_ms}};
   }
   return doc.dump(2) + "\n";
 }

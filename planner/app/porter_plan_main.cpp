@@ -8,9 +8,11 @@
 #include <optional>
 #include <string>
 
+#include "backend_stage.hpp"
 #include "checker_factory.hpp"
 #include "plan_args.hpp"
 #include "plan_result_json.hpp"
+#include "plan_summary.hpp"
 #include "porter/core/load_error.hpp"
 #include "porter/core/payload.hpp"
 #include "porter/core/payload_loader.hpp"
@@ -22,32 +24,13 @@
 
 namespace {
 
-enum ExitCode { kOk = 0, kPlanFailed = 1, kBadArgs = 2, kBadFile = 3, kInvalidEndpoint = 4, kUnavailable = 5 };
+// 5 ("stage not available") is retired: every stage is built (README.md).
+enum ExitCode { kOk = 0, kPlanFailed = 1, kBadArgs = 2, kBadFile = 3, kInvalidEndpoint = 4 };
 
 bool write_file(const std::string& path, const std::string& text) {
   std::ofstream f(path);
   f << text;
   return static_cast<bool>(f.flush());
-}
-
-std::string summary_line(const porter::frontend::FrontendResult& r) {
-  using porter::frontend::to_string;
-  char buf[512];
-  std::snprintf(buf, sizeof buf,
-                "front-end: %s %.1f ms, iterations %lld (hybrid_astar %lld, layered_arm %lld, whole_body_rrt %lld)",
-                to_string(r.status), r.elapsed_s * 1e3,
-                static_cast<long long>(r.hybrid_astar.iterations + r.layered_arm.iterations + r.whole_body_rrt.iterations),
-                static_cast<long long>(r.hybrid_astar.iterations), static_cast<long long>(r.layered_arm.iterations),
-                static_cast<long long>(r.whole_body_rrt.iterations));
-  std::string line = buf;
-  if (r.status == porter::frontend::PlannerStatus::kSuccess) {
-    std::snprintf(buf, sizeof buf, ", nodes %zu, segments %zu, length %.2f m%s", r.path.node_count(),
-                  r.path.segments.size(), porter::app::path_length_m(r.path), r.used_fallback ? ", fallback used" : "");
-    line += buf;
-  } else {
-    line += " -- " + r.message;
-  }
-  return line;
 }
 
 }  // namespace
@@ -69,7 +52,11 @@ int main(int argc, char** argv) {
   info.scene_file = args.scene_path;
   info.robot_file = args.robot_path;
   info.stages = app::to_string(args.stages);
+  info.collision = app::to_string(args.collision);
+  info.safety = args.collision == app::CollisionArg::kSpheres ? "spheres" : app::to_string(args.safety);
   info.frontend_budget_ms = args.frontend_budget_ms;
+  info.midend_budget_ms = args.midend_budget_ms;
+  info.backend_budget_ms = args.backend_budget_ms;
   auto fail = [&](int code, const std::string& status, const std::string& msg) {
     std::cerr << "porter-plan: " << msg << "\n";
     if (args.out_path && !write_file(*args.out_path, app::plan_result_json(info, nullptr, status, code, msg))) {
@@ -98,10 +85,24 @@ int main(int argc, char** argv) {
     return fail(kBadFile, "bad_input", e.what());
   }
 
-  const OccupancyGrid grid = voxelize(scene);
-  std::unique_ptr<planner::CollisionChecker> checker = app::make_collision_checker(model);
+  // The front-end plans with the --collision model; the direct-execution test, the decision to run
+  // the back-end and the final re-check are always the kernel trajectory check (comparable runs).
+  OccupancyGrid grid;
+  std::unique_ptr<planner::CollisionChecker> checker;
+  std::unique_ptr<planner::CollisionChecker> kernel_owner;
+  try {
+    grid = voxelize(scene);
+    checker = app::make_collision_checker(model, scene.resolution_m, args.collision);
+    checker->set_map(grid);
+    if (args.collision != app::CollisionArg::kKernels) {
+      kernel_owner = app::make_collision_checker(model, scene.resolution_m, app::CollisionArg::kKernels);
+      kernel_owner->set_map(grid);
+    }
+  } catch (const std::exception& e) {  // a resolution or map the checkers cannot use
+    return fail(kBadFile, "bad_input", std::string("scene ") + args.scene_path + ": " + e.what());
+  }
   info.checker = checker->name();
-  checker->set_map(grid);
+  const planner::CollisionChecker& kernels = kernel_owner ? *kernel_owner : *checker;
   frontend::FrontEnd fe(model, *checker);
   fe.set_map(grid);
   const frontend::FrontendResult result = fe.plan(scene.start, scene.goal, args.frontend_budget_ms * 1e-3, scene.seed);
@@ -112,38 +113,51 @@ int main(int argc, char** argv) {
   else if (result.status != frontend::PlannerStatus::kSuccess)
     code = kPlanFailed;
   if (code == kInvalidEndpoint) std::cerr << "porter-plan: " << result.message << "\n";
-  if (!args.quiet || code != kOk) std::cout << summary_line(result) << std::endl;
+  if (!args.quiet || code != kOk) std::cout << app::frontend_summary(result) << std::endl;
   std::string status = frontend::to_string(result.status);
   std::string error;
 
   // Mid-end (paper §V): MINCO over the front-end path; a trajectory the kernel check finds
   // collision-free is executed directly and the back-end is skipped.
   std::optional<midend::MidendResult> mid;
+  std::optional<app::BackendRun> back;
+  std::optional<app::FinalCheck> final_check;
   if (code == kOk && args.stages != app::Stages::kFront) {
     const midend::MidEnd midend_solver(model);
-    mid = midend_solver.solve(result.path, /*time_budget_s=*/0.0,
-                              [&](const Trajectory& t) { return !checker->check_trajectory(t).in_collision; });
+    planner::CollisionResult mid_check;
+    mid = midend_solver.solve(result.path, args.midend_budget_ms * 1e-3, [&](const Trajectory& t) {
+      mid_check = kernels.check_trajectory(t);
+      return !mid_check.in_collision;
+    });
     status = midend::to_string(mid->status);
-    if (!args.quiet || !mid->trajectory) {
-      std::printf("mid-end: %s %.1f ms (optimize %.1f ms, check %.1f ms), iterations %d, evaluations %d, pieces %d",
-                  midend::to_string(mid->status), mid->elapsed_s * 1e3, mid->optimize_s * 1e3, mid->validate_s * 1e3,
-                  mid->iterations, mid->evaluations, mid->num_pieces);
-      if (mid->trajectory) std::printf(", duration %.2f s, %s", mid->trajectory->total_duration_s(), midend::to_string(mid->execution));
-      std::printf("\n");
-    }
+    if (!args.quiet || !mid->trajectory) std::cout << app::midend_summary(*mid) << std::endl;
     if (!mid->trajectory) {
       code = kPlanFailed;
       error = mid->message;
-    } else if (mid->execution == midend::Execution::kNeedsBackend && args.stages == app::Stages::kFull) {
-      // The back-end (KC-SVSDF, paper §VI) has not landed: say so rather than return a colliding plan.
-      code = kUnavailable;
-      status = "needs_backend";
-      error = "the mid-end trajectory is in collision and the back-end is not available yet";
-      std::cerr << "porter-plan: " << error << "\n";
+    } else {
+      final_check = app::FinalCheck{"midend", !mid_check.in_collision, mid_check.in_collision ? mid_check.link : -1,
+                                    mid->validate_s * 1e3};
+    }
+    // Back-end (paper §VI): only when the mid-end's trajectory collides.
+    if (mid->trajectory && mid->execution == midend::Execution::kNeedsBackend && args.stages == app::Stages::kFull) {
+      back = app::run_backend(args, model, grid, result.path, *mid->trajectory, midend_solver.settings(), kernels);
+      const backend::BackendResult& r = back->result;
+      status = backend::to_string(r.status);
+      if (r.ok()) {
+        final_check = app::FinalCheck{"backend", r.check == backend::SafetyCheck::kCollisionFree,
+                                      r.check == backend::SafetyCheck::kInCollision ? r.collision_link : -1, r.check_s * 1e3};
+      }
+      if (!r.success()) {
+        code = kPlanFailed;
+        error = r.ok() ? "back-end trajectory in collision (kernel check, link " + std::to_string(r.collision_link) + ")"
+                       : "back-end: " + r.message;
+      }
+      if (!args.quiet || !r.success()) std::cout << app::backend_summary(*back) << std::endl;
     }
   }
   if (args.out_path &&
-      !write_file(*args.out_path, app::plan_result_json(info, &result, status, code, error, mid ? &*mid : nullptr))) {
+      !write_file(*args.out_path, app::plan_result_json(info, &result, status, code, error, mid ? &*mid : nullptr,
+                                                        back ? &*back : nullptr, final_check ? &*final_check : nullptr))) {
     std::cerr << "porter-plan: cannot write '" << *args.out_path << "'\n";
     return kBadFile;
   }

@@ -1,65 +1,50 @@
 #include "porter/backend/backend_problem.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "porter/minco/time_map.hpp"
+#include "warm_start.hpp"
 
 namespace porter::backend {
-namespace {
-
-constexpr int kGearVars = kTrajDim + 1 + 2 * kNumArmJoints;  // [z, theta, qd, qdd]
-
-}  // namespace
 
 BackendProblem::BackendProblem(midend::ReferencePath reference, const midend::MidendLimits& limits,
                                const midend::MidendSettings& settings, SafetyTerm& safety)
-    : reference_(reference), limits_(limits), midend_(std::move(reference), limits, settings), safety_(&safety) {
-  // The decision-vector layout of midend_problem.hpp.
-  const int segments = static_cast<int>(reference_.segments.size());
-  int offset = 0, piece = 0;
-  for (int s = 0; s < segments; ++s) {
-    const int m = reference_.segments[static_cast<std::size_t>(s)].num_pieces();
-    first_piece_.push_back(piece);
-    piece += m;
-    q_offset_.push_back(offset);
-    offset += kTrajDim * (m - 1);
-    tau_offset_.push_back(offset);
-    offset += m;
-  }
-  first_piece_.push_back(piece);
-  for (int g = 0; g + 1 < segments; ++g) {
-    gear_offset_.push_back(offset);
-    offset += kGearVars;
-  }
+    : midend_(std::move(reference), limits, settings), safety_(&safety) {
+  midend_.set_extra_cost([this](const Trajectory& traj, midend::ExtraCostGradient* grad) {
+    return safety_cost(traj, grad);
+  });
 }
 
-bool BackendProblem::decision_from_trajectory(const Trajectory& traj, Eigen::VectorXd& x) const {
-  if (traj.num_pieces() != midend_.num_pieces()) return false;
-  x.setZero(midend_.num_variables());
-  const int segments = static_cast<int>(reference_.segments.size());
-  for (int s = 0; s < segments; ++s) {
-    const int eta = reference_.segments[static_cast<std::size_t>(s)].eta;
-    const int p0 = first_piece_[static_cast<std::size_t>(s)], p1 = first_piece_[static_cast<std::size_t>(s) + 1];
-    for (int i = p0; i < p1; ++i) {
-      const TrajectoryPiece& piece = traj.piece(i);
-      if (piece.eta != eta) return false;
-      if (i > p0) x.segment<kTrajDim>(q_offset_[static_cast<std::size_t>(s)] + kTrajDim * (i - p0 - 1)) = piece.coeffs.row(0).transpose();
-      x[tau_offset_[static_cast<std::size_t>(s)] + (i - p0)] = minco::tau_from_duration(piece.duration_s);
-    }
-    if (s + 1 < segments) {
-      const TrajectoryPiece& last = traj.piece(p1 - 1);
-      const TrajVector z = piece_derivative(last.coeffs, last.duration_s, 0);
-      const TrajVector v = piece_derivative(last.coeffs, last.duration_s, 1);
-      const TrajVector a = piece_derivative(last.coeffs, last.duration_s, 2);
-      const int o = gear_offset_[static_cast<std::size_t>(s)];
-      x.segment<kTrajDim>(o) = z;
-      x[o + kTrajDim] = std::atan2(eta * v[1], eta * v[0]);
-      x.segment<kNumArmJoints>(o + kTrajDim + 1) = v.tail<kNumArmJoints>();
-      x.segment<kNumArmJoints>(o + kTrajDim + 1 + kNumArmJoints) = a.tail<kNumArmJoints>();
+double BackendProblem::safety_cost(const Trajectory& traj, midend::ExtraCostGradient* grad) {
+  const int n = traj.num_pieces();
+  tgrad_.reset(n);
+  const double js = safety_->evaluate(traj, tgrad_, &stats_);
+  if (!std::isfinite(js)) return std::numeric_limits<double>::infinity();
+  if (grad) {
+    if (static_cast<int>(grad->coeffs.size()) != n || static_cast<int>(grad->durations_s.size()) != n)
+      return std::numeric_limits<double>::infinity();
+    for (int i = 0; i < n; ++i) {
+      const auto k = static_cast<std::size_t>(i);
+      grad->coeffs[k] += tgrad_.coeffs(i);
+      grad->durations_s[k] += tgrad_.duration(i);
     }
   }
-  return x.allFinite();
+  return js;
+}
+
+bool BackendProblem::decision_from_trajectory(const Trajectory& traj, Eigen::VectorXd& x) {
+  if (!detail::warm_start_decision(midend_.reference(), midend_.num_variables(), traj, x)) return false;
+  const std::vector<TrajectoryPiece> back = midend_.pieces(x.data());
+  if (static_cast<int>(back.size()) != traj.num_pieces()) return false;
+  for (int i = 0; i < traj.num_pieces(); ++i) {
+    const TrajectoryPiece& a = back[static_cast<std::size_t>(i)];
+    const TrajectoryPiece& b = traj.piece(i);
+    if (a.eta != b.eta || std::abs(a.duration_s - b.duration_s) > 1e-6 * b.duration_s ||
+        !((a.coeffs - b.coeffs).norm() <= 1e-6 * (1.0 + b.coeffs.norm())))
+      return false;
+  }
+  return true;
 }
 
 std::optional<Trajectory> BackendProblem::trajectory(const double* x) {
@@ -73,76 +58,15 @@ double BackendProblem::evaluate(const double* x, double* grad, BackendCost* cost
   BackendCost local;
   BackendCost& c = cost ? *cost : local;
   c = BackendCost{};
-  const double f_mid = midend_.evaluate(x, grad, &c.midend);
-  const auto fail = [&]() {
+  stats_ = SafetyStats{};
+  const double f = midend_.evaluate(x, grad, &c.midend);
+  c.safety = c.midend.extra;
+  c.safety_stats = stats_;
+  if (!std::isfinite(f)) {
     if (grad) std::fill(grad, grad + num_variables(), 0.0);
     return std::numeric_limits<double>::infinity();
-  };
-  if (!std::isfinite(f_mid)) return fail();
-  const std::optional<Trajectory> traj = trajectory(x);
-  if (!traj) return fail();
-  tgrad_.reset(traj->num_pieces());
-  c.safety = safety_->evaluate(*traj, tgrad_, &c.safety_stats);
-  if (!std::isfinite(c.safety)) return fail();
-  if (grad && !add_safety_gradient(*traj, tgrad_, x, grad)) return fail();
-  return f_mid + c.safety;
-}
-
-bool BackendProblem::add_safety_gradient(const Trajectory& traj, const TrajectoryGradient& tgrad,
-                                         const double* x, double* grad) {
-  const int segments = static_cast<int>(reference_.segments.size());
-  const double vns = limits_.nonsingular_speed_mps;
-  for (int s = 0; s < segments; ++s) {
-    const auto su = static_cast<std::size_t>(s);
-    const int p0 = first_piece_[su], m = first_piece_[su + 1] - p0;
-    const int eta = reference_.segments[su].eta;
-    // Rebuild the segment's MINCO from its pieces (same boundary data -> same coefficients).
-    Minco::BoundaryState head, tail;
-    const TrajectoryPiece& first = traj.piece(p0);
-    const TrajectoryPiece& last = traj.piece(p0 + m - 1);
-    for (int k = 0; k < 3; ++k) {
-      head.col(k) = piece_derivative(first.coeffs, 0.0, k);
-      tail.col(k) = piece_derivative(last.coeffs, last.duration_s, k);
-    }
-    Minco::Waypoints waypoints(kTrajDim, m - 1);
-    Eigen::VectorXd durations(m);
-    partial_c_.resize(minco::kPieceCoeffs * m, kTrajDim);
-    partial_t_.resize(m);
-    for (int i = 0; i < m; ++i) {
-      const TrajectoryPiece& piece = traj.piece(p0 + i);
-      if (i > 0) waypoints.col(i - 1) = piece.coeffs.row(0).transpose();
-      durations[i] = piece.duration_s;
-      partial_c_.middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i) = tgrad.coeffs(p0 + i);
-      partial_t_[i] = tgrad.duration(p0 + i);
-    }
-    if (!minco_.generate(head, tail, waypoints, durations)) return false;
-    Minco::BoundaryState gh, gt;
-    minco_.propagate_gradient(partial_c_, partial_t_, grad_q_, grad_t_, gh, gt);
-    for (int i = 0; i + 1 < m; ++i) {
-      for (int d = 0; d < kTrajDim; ++d) grad[q_offset_[su] + kTrajDim * i + d] += grad_q_(d, i);
-    }
-    for (int i = 0; i < m; ++i) {
-      const int k = tau_offset_[su] + i;
-      grad[k] += grad_t_[i] * minco::duration_derivative(x[k]);
-    }
-    // Gear states: head of segment s (> 0) is gear s-1, tail of segment s (< last) is gear s.
-    auto add_gear = [&](int g, const Minco::BoundaryState& gs) {
-      const int o = gear_offset_[static_cast<std::size_t>(g)];
-      const double theta = x[o + kTrajDim];
-      for (int d = 0; d < kTrajDim; ++d) grad[o + d] += gs(d, 0);
-      grad[o + kTrajDim] += eta * vns * (-gs(0, 1) * std::sin(theta) + gs(1, 1) * std::cos(theta));
-      for (int d = 0; d < kNumArmJoints; ++d) {
-        grad[o + kTrajDim + 1 + d] += gs(2 + d, 1);
-        grad[o + kTrajDim + 1 + kNumArmJoints + d] += gs(2 + d, 2);
-      }
-    };
-    if (s > 0) add_gear(s - 1, gh);
-    if (s + 1 < segments) add_gear(s, gt);
   }
-  for (int k = 0; k < num_variables(); ++k) {
-    if (!std::isfinite(grad[k])) return false;
-  }
-  return true;
+  return f;
 }
 
 }  // namespace porter::backend

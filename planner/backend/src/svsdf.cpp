@@ -8,6 +8,9 @@ namespace porter::backend {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Values closer than this are equal for the t* search (rounding of a field value near a
+/// converged minimum), m.
+constexpr double kRoundoff_m = 1e-12;
 
 /// Adds the scope's wall time to *sink when sink is non-null.
 class ScopeTimer {
@@ -142,11 +145,12 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
   // refinement follows the C^1 one, so the minimum may lie a little beyond the sample bracket: walk
   // on by whole samples (at most kMaxWalk) until the derivative changes sign or the search ends.
   constexpr int kMaxWalk = 8;
-  double l, r, dl, dr;
+  double l, r, dl, dr, f_l, f_r;  // the bracket [l, r]: derivative signs and values at its ends
   if (d_k > 0.0) {
     if (a >= t_k) return best;
     r = t_k;
     dr = d_k;
+    f_r = best.f;
     l = a;
     double fl = evaluate_at(link, p, l, &dl);
     keep(fl);
@@ -154,6 +158,7 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
     for (int walk = 0; dl >= 0.0 && l > lo && walk < kMaxWalk; ++walk) {
       r = l;
       dr = dl;
+      f_r = fl;
       const int k = body_->first_sample_at_or_after(l) - 1;
       l = k >= 0 ? std::max(lo, body_->sample_time(k)) : lo;
       if (l >= r) l = lo;
@@ -162,10 +167,12 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
       if (fl < best.f) best = {l, fl};
     }
     if (dl >= 0.0) return best;
+    f_l = fl;
   } else {
     if (b <= t_k) return best;
     l = t_k;
     dl = d_k;
+    f_l = best.f;
     r = b;
     double fr = evaluate_at(link, p, r, &dr);
     keep(fr);
@@ -173,6 +180,7 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
     for (int walk = 0; dr <= 0.0 && r < hi && walk < kMaxWalk; ++walk) {
       l = r;
       dl = dr;
+      f_l = fr;
       int k = body_->first_sample_at_or_after(r);
       if (k < body_->num_samples() && body_->sample_time(k) <= r) ++k;
       r = k < body_->num_samples() ? std::min(hi, body_->sample_time(k)) : hi;
@@ -182,6 +190,7 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
       if (fr < best.f) best = {r, fr};
     }
     if (dr <= 0.0) return best;
+    f_r = fr;
   }
   // Illinois regula falsi on the derivative (continuous: the field is C^1); bisection when the
   // secant leaves the bracket.
@@ -196,11 +205,13 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
     if (dm > 0.0) {
       r = m;
       dr = dm;
+      f_r = fm;
       if (side == 1) dl *= 0.5;
       side = 1;
     } else if (dm < 0.0) {
       l = m;
       dl = dm;
+      f_l = fm;
       if (side == -1) dr *= 0.5;
       side = -1;
     } else {
@@ -209,6 +220,13 @@ SvsdfEvaluator::Candidate SvsdfEvaluator::bracket_minimum(int link, const Eigen:
   }
   // Stationary when the best point is the bracket's (converged) root; an earlier evaluated point
   // that is lower means another minimum lies near it (see refine()).
+  // A point outside the bracket that is lower only by rounding (the values near a converged
+  // minimum agree to ~1e-16 m) is not another minimum: the bracket's end is the answer.
+  const double root_f = std::min(f_l, f_r);
+  if (!(best.t >= l - settings_.time_tolerance_s && best.t <= r + settings_.time_tolerance_s) &&
+      best.f >= root_f - kRoundoff_m) {
+    best = {f_l <= f_r ? l : r, root_f};
+  }
   if (best.t >= l - settings_.time_tolerance_s && best.t <= r + settings_.time_tolerance_s) {
     best.stationary = true;
   } else {

@@ -1,5 +1,5 @@
-// porter-plan end to end: exit codes for bad arguments, unreadable files, unavailable stages and
-// invalid starts, and the JSON result of a successful plan.
+// porter-plan end to end: exit codes for bad arguments, unreadable files and invalid starts, and
+// the JSON result of a successful plan. (--stages full with a back-end: tests/planner/backend.)
 
 #include <cstdlib>
 #include <filesystem>
@@ -100,13 +100,36 @@ TEST_F(PorterPlan, InvalidStartIsExitCode4) {
   EXPECT_NE(file("stderr.txt").find("joint 2"), std::string::npos) << file("stderr.txt");
 }
 
+TEST_F(PorterPlan, PlansAtTheScenesResolution) {
+  // The kernels follow the scene's voxel size; a size they cannot use is a bad scene file.
+  std::ifstream in(scene("empty"));
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string original = text.str();
+  auto with = [&](const std::string& resolution) {
+    std::string yaml = original;
+    const std::string key = "resolution: 0.05";
+    yaml.replace(yaml.find(key), key.size(), "resolution: " + resolution);
+    const std::string payload = "payload: ../payloads/t_bar.yaml";
+    yaml.replace(yaml.find(payload), payload.size(), "payload: " + porter::test::source_dir() + "/config/payloads/t_bar.yaml");
+    const fs::path path = dir_ / ("empty_" + resolution + ".yaml");
+    std::ofstream(path) << yaml;
+    return path.string();
+  };
+  ASSERT_NE(original.find("resolution: 0.05"), std::string::npos);
+  EXPECT_EQ(run("--scene " + with("0.1") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
+      << file("stdout.txt") << file("stderr.txt");
+  EXPECT_EQ(run("--scene " + with("0.0125") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
+      << file("stdout.txt") << file("stderr.txt");
+}
+
 TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
   const std::string out = (dir_ / "r.json").string();
   ASSERT_EQ(run("--scene " + scene("empty") + " --seed 7 --robot " + robot() + " --frontend-budget-ms 20000 --out " + out), 0)
       << file("stdout.txt") << file("stderr.txt");
   EXPECT_EQ(file("stdout.txt").rfind("front-end: success", 0), 0u) << file("stdout.txt");
   const auto doc = nlohmann::json::parse(file("r.json"));
-  EXPECT_EQ(doc["format"], "porter-plan-result/1");
+  EXPECT_EQ(doc["format"], "porter-plan-result/2");
   EXPECT_EQ(doc["status"], "success");
   EXPECT_EQ(doc["scene"]["seed"], 7);
   EXPECT_EQ(doc["checker"], "kernels");
@@ -122,6 +145,8 @@ TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
   EXPECT_NEAR(last["base"][0].get<double>(), 8.0, 1e-9);
   EXPECT_NEAR(path["duration_s"].get<double>(), last["t_s"].get<double>(), 1e-12);
   EXPECT_TRUE(doc["trajectory"].is_null());
+  EXPECT_TRUE(doc["backend"].is_null());
+  EXPECT_TRUE(doc["final_check"].is_null());
 }
 
 }  // namespace

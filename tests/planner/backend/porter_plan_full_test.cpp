@@ -1,0 +1,136 @@
+// porter-plan --stages full end to end: the back-end flags (--safety, --collision and the budgets)
+// are validated with exit code 2, and on the ablation scene (bridge, h_b = 0.9 m) a mid-end
+// trajectory in collision goes to the back-end, whose section, final re-check and trajectory are
+// in the JSON result; the same seed gives the same result.
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+class PorterPlanFull : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("porter_plan_full_test_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  int run(const std::string& args, const std::string& tag = "") const {
+    const std::string cmd = std::string(PORTER_PLAN_EXE) + " " + args + " > " + (dir_ / ("stdout" + tag)).string() +
+                            " 2> " + (dir_ / ("stderr" + tag)).string();
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  std::string file(const std::string& name) const {
+    std::ifstream in(dir_ / name);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+  static std::string scene(const std::string& name) {
+    return std::string(PORTER_SOURCE_DIR) + "/config/scenes/" + name + ".yaml";
+  }
+  /// Bridge at h_b = 0.9 with budgets large enough that no stage stops on time: the front-end and
+  /// mid-end converge, and the back-end stops at its iteration cap.
+  std::string bridge_full(const std::string& out, const std::string& extra = "") const {
+    return "--scene " + scene("bridge") + " --set h_b=0.9 --seed 1 --stages full --frontend-budget-ms 20000" +
+           " --midend-budget-ms 20000 --backend-budget-ms 120000 --backend-iterations 3 --out " +
+           (dir_ / out).string() + " " + extra;
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
+  const std::string base = "--scene " + scene("empty") + " --stages full ";
+  EXPECT_EQ(run(base + "--safety spheres"), 2);
+  EXPECT_NE(file("stderr").find("--safety: expected kc_svsdf or svsdf_per_link, got 'spheres'"), std::string::npos)
+      << file("stderr");
+  EXPECT_EQ(run(base + "--collision octomap"), 2);
+  EXPECT_NE(file("stderr").find("--collision: expected kernels or spheres, got 'octomap'"), std::string::npos)
+      << file("stderr");
+  EXPECT_EQ(run(base + "--safety"), 2);
+  EXPECT_NE(file("stderr").find("--safety needs a value"), std::string::npos);
+  EXPECT_EQ(run(base + "--backend-budget-ms -1"), 2);
+  EXPECT_NE(file("stderr").find("--backend-budget-ms must be > 0"), std::string::npos);
+  EXPECT_EQ(run(base + "--midend-budget-ms abc"), 2);
+  EXPECT_EQ(run(base + "--backend-iterations 0"), 2);
+  // The sphere baseline brings its own back-end term: an explicit --safety contradicts it.
+  EXPECT_EQ(run(base + "--collision spheres --safety kc_svsdf"), 2);
+  EXPECT_NE(file("stderr").find("--safety does not apply with --collision spheres"), std::string::npos);
+  // Valid values parse (nothing collides in the empty scene: no back-end, exit 0).
+  EXPECT_EQ(run(base + "--safety svsdf_per_link --out " + (dir_ / "e.json").string()), 0) << file("stderr");
+  const auto doc = nlohmann::json::parse(file("e.json"));
+  EXPECT_EQ(doc["format"], "porter-plan-result/2");
+  EXPECT_EQ(doc["safety"], "svsdf_per_link");
+  EXPECT_TRUE(doc["backend"].is_null());
+  EXPECT_EQ(doc["final_check"]["stage"], "midend");
+  EXPECT_TRUE(doc["final_check"]["collision_free"].get<bool>());
+}
+
+TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
+  const int code = run(bridge_full("a.json"), "a");
+  ASSERT_TRUE(code == 0 || code == 1) << code << file("stderra");
+  const auto doc = nlohmann::json::parse(file("a.json"));
+  ASSERT_EQ(doc["frontend"]["status"], "success") << "the fixture needs a front-end path";
+  ASSERT_EQ(doc["midend"]["direct_execution"], false) << "the fixture needs a mid-end trajectory in collision";
+  const auto& be = doc["backend"];
+  ASSERT_TRUE(be.is_object());
+  EXPECT_EQ(be["safety_model"], "kc_svsdf");
+  EXPECT_EQ(be["status"], "iteration limit reached");
+  EXPECT_EQ(be["iterations"], 3);
+  EXPECT_GT(be["evaluations"].get<int>(), 3);
+  EXPECT_GT(be["time_ms"].get<double>(), 0.0);
+  EXPECT_EQ(be["budget_ms"], 120000.0);
+  // The warm start collides: J_s > 0, and the optimizer lowered it.
+  EXPECT_GT(be["initial_cost"]["safety"].get<double>(), 0.0);
+  EXPECT_LT(be["final_cost"]["safety"].get<double>(), be["initial_cost"]["safety"].get<double>());
+  // The answer is the back-end's, re-checked by the kernels; the exit code follows the re-check.
+  ASSERT_TRUE(be["final_check"].is_object());
+  EXPECT_EQ(be["final_check"]["checker"], "kernels");
+  EXPECT_EQ(doc["final_check"]["stage"], "backend");
+  const bool free = doc["final_check"]["collision_free"].get<bool>();
+  EXPECT_EQ(be["final_check"]["collision_free"].get<bool>(), free);
+  EXPECT_EQ(be["success"].get<bool>(), free);
+  EXPECT_EQ(code, free ? 0 : 1);
+  EXPECT_EQ(doc["exit_code"], code);
+  ASSERT_TRUE(doc["trajectory"].is_object());
+  EXPECT_EQ(doc["trajectory"]["pieces"].size(), be["num_pieces"].get<std::size_t>());
+  // One summary line per stage.
+  const std::string out = file("stdouta");
+  EXPECT_EQ(out.rfind("front-end: success", 0), 0u) << out;
+  EXPECT_NE(out.find("\nmid-end: "), std::string::npos) << out;
+  EXPECT_NE(out.find("\nback-end: iteration limit reached"), std::string::npos) << out;
+  EXPECT_NE(out.find("safety kc_svsdf"), std::string::npos) << out;
+
+  // Same seed, same result (the back-end merges its threads' sums in a fixed order).
+  ASSERT_EQ(run(bridge_full("b.json"), "b"), code);
+  const auto again = nlohmann::json::parse(file("b.json"));
+  EXPECT_EQ(again["path"], doc["path"]);
+  EXPECT_EQ(again["trajectory"], doc["trajectory"]);
+  EXPECT_EQ(again["backend"]["evaluations"], be["evaluations"]);
+  EXPECT_EQ(again["backend"]["final_cost"], be["final_cost"]);
+  EXPECT_EQ(again["final_check"]["collision_free"], doc["final_check"]["collision_free"]);
+
+  // The ablation baseline on the same warm start: same flags, another term.
+  const int per_link = run(bridge_full("c.json", "--safety svsdf_per_link"), "c");
+  ASSERT_TRUE(per_link == 0 || per_link == 1) << file("stderrc");
+  const auto ablation = nlohmann::json::parse(file("c.json"));
+  EXPECT_EQ(ablation["backend"]["safety_model"], "svsdf_per_link");
+  EXPECT_EQ(ablation["midend"]["evaluations"], doc["midend"]["evaluations"]);
+  EXPECT_EQ(ablation["backend"]["initial_cost"]["total"].is_number(), true);
+}
+
+}  // namespace
