@@ -66,6 +66,7 @@ int to_lbfgs_line_search(LineSearch ls) {
     case LineSearch::kMoreThuente: return LBFGS_LINESEARCH_MORETHUENTE;
     case LineSearch::kBacktrackingWolfe: return LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
     case LineSearch::kBacktrackingStrongWolfe: return LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
+    case LineSearch::kBacktrackingArmijo: return LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
   }
   return LBFGS_LINESEARCH_DEFAULT;
 }

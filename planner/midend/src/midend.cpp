@@ -10,6 +10,7 @@
 #include "porter/midend/lbfgs_driver.hpp"
 #include "porter/midend/midend_problem.hpp"
 #include "porter/midend/reference_path.hpp"
+#include "trajectory_verify.hpp"
 
 namespace porter::midend {
 namespace {
@@ -95,6 +96,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
     return fail("singularity guards must be > 0");
   }
   if (!nonneg(s.coincident_tolerance) || !nonneg(s.min_segment_length_m)) return fail("path tolerances must be >= 0");
+  if (!nonneg(s.still_max_base_m) || !nonneg(s.still_max_yaw_rad) || !nonneg(s.still_min_arm_rad)) {
+    return fail("still_max_base_m, still_max_yaw_rad and still_min_arm_rad must be >= 0");
+  }
   if (!(s.densify_factor >= 1.0) || s.max_pieces_per_edge < 1) return fail("densify_factor must be >= 1 and max_pieces_per_edge >= 1");
   if (!pos(s.piece_length_m) || !pos(s.piece_arm_motion_rad) || s.max_edges_per_piece < 1 ||
       !(s.piece_duration_ratio >= 1.0)) {
@@ -110,6 +114,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   if (!pos(s.variable_scale)) return fail("variable_scale must be > 0");
   if (s.max_restarts < 0 || !nonneg(s.restart_min_decrease)) return fail("max_restarts and restart_min_decrease must be >= 0");
   if (!pos(s.default_time_budget_s)) return fail("default_time_budget_s must be > 0");
+  if (!nonneg(s.verify_tolerance) || !std::isfinite(s.verify_step_s)) {
+    return fail("verify_tolerance must be >= 0 and verify_step_s finite");
+  }
   return true;
 }
 
@@ -240,7 +247,19 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
 
   if (has_trajectory(r.status)) {
     TrajectoryResult tr = Trajectory::create(problem.pieces(x1.data()), problem.start_yaw_rad());
-    if (tr.ok()) {
+    std::string violation;
+    if (tr.ok() && settings_.verify_step_s > 0.0) {
+      std::vector<int> piece_segment;
+      for (int s = 0; s < problem.num_segments(); ++s) {
+        piece_segment.insert(piece_segment.end(), problem.reference().segments[s].num_pieces(), s);
+      }
+      violation = detail::verify_trajectory(*tr.trajectory, piece_segment, limits_,
+                                            settings_.verify_tolerance, settings_.verify_step_s);
+    }
+    if (tr.ok() && !violation.empty()) {
+      r.message = std::string("optimizer: ") + to_string(r.status) + ", " + detail + "; rejected: " + violation;
+      r.status = MidendStatus::kConstraintViolation;
+    } else if (tr.ok()) {
       r.trajectory = std::move(tr.trajectory);
     } else {
       r.status = MidendStatus::kNumericalFailure;

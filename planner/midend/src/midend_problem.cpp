@@ -71,14 +71,22 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
       l.kappa[i] = seg.intervals[i];
       for (int k = 0; k <= edges; ++k) l.fractions[i].push_back(seg.fraction_in_piece(i, k));
     }
-    if (s == 0) l.min_speed.front() = 0.0;
-    if (s + 1 == num_segments) l.min_speed.back() = 0.0;
-
+    l.still = seg.base_still;
+    if (l.still) l.still_base = Eigen::Vector2d(seg.nodes.front().base.x_m, seg.nodes.front().base.y_m);
+    // The base rests at the global start / goal and where a still segment begins or ends.
+    l.rest_start = !l.still && (s == 0 || reference_.segments[s - 1].base_still);
+    l.rest_end = !l.still && (s + 1 == num_segments || reference_.segments[s + 1].base_still);
+    if (l.rest_start) l.min_speed.front() = 0.0;
+    if (l.rest_end) l.min_speed.back() = 0.0;
   }
   gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
-  for (auto& g : gear_layout_) {
-    g.offset = offset;
+  for (int g = 0; g + 1 < num_segments; ++g) {
+    GearLayout& gl = gear_layout_[g];
+    gl.offset = offset;
     offset += kGearVars;
+    const int still = reference_.segments[g].base_still ? g : reference_.segments[g + 1].base_still ? g + 1 : -1;
+    gl.rest = still >= 0;
+    if (gl.rest) gl.base = segment_layout_[still].still_base;
   }
   time_scale_index_ = offset++;  // global log time scale (conditioning; see header)
   num_variables_ = offset;
@@ -142,6 +150,14 @@ bool MidendProblem::build_segment(int s, const double* x) {
   auto gear_state = [&](int g, Minco::BoundaryState& st) {
     const double* gx = x + gear_layout_[g].offset;
     st.col(0) = Eigen::Map<const TrajVector>(gx);
+    if (gear_layout_[g].rest) {  // base held at the still segment's pose, at rest; arm free
+      st.col(0).head<2>() = gear_layout_[g].base;
+      st.col(1).head<2>().setZero();
+      st.col(2).head<2>().setZero();
+      st.col(1).tail<kNumArmJoints>() = Eigen::Map<const JointVector>(gx + kTrajDim + 1);
+      st.col(2).tail<kNumArmJoints>() = Eigen::Map<const JointVector>(gx + kTrajDim + 1 + kNumArmJoints);
+      return;
+    }
     const double theta = gx[kTrajDim];
     st(0, 1) = eta * vns * std::cos(theta);
     st(1, 1) = eta * vns * std::sin(theta);
@@ -165,6 +181,7 @@ bool MidendProblem::build_segment(int s, const double* x) {
     gear_state(s, tail);
   }
   waypoints_[s] = Eigen::Map<const Minco::Waypoints>(x + l.q_offset, kTrajDim, l.pieces - 1);
+  if (l.still) waypoints_[s].topRows<2>().colwise() = l.still_base;
   for (int i = 0; i < l.pieces; ++i) {
     const double tau = x[l.tau_offset + i];
     const double scale = std::exp(x[time_scale_index_]);
@@ -191,6 +208,7 @@ double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
     in.dirs = &node_dir_[s][seg.knots[i]];
     in.fractions = segment_layout_[s].fractions[i].data();
     in.min_speed_mps = min_speed_mps;
+    in.base_still = segment_layout_[s].still;
     static_assert(Minco::kStorage == Eigen::RowMajor, "the fast sampler reads row-major blocks");
     const int row = minco::kPieceCoeffs * i;
     return detail::sample_piece(*sampler_, in, minco_[s].coefficients().row(row).data(),
@@ -208,6 +226,7 @@ double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
   integrand.fractions = segment_layout_[s].fractions[i].data();
   integrand.duration_s = durations_[s][i];
   integrand.min_speed_mps = min_speed_mps;
+  integrand.base_still = segment_layout_[s].still;
   integrand.breakdown = breakdown;
   return minco::integrate_piece_penalty<kTrajDim>(
       minco_[s].piece(i), durations_[s][i], segment_layout_[s].kappa[i], integrand,
@@ -342,11 +361,12 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
     if (terms_ & kSampledTerms) {
       for (int i = 0; i < segment_layout_[s].pieces; ++i) piece_penalty(s, i, &b);
     }
-    if (s == 0) rest_rates(s, true, &b);
-    if (s + 1 == num_segments) rest_rates(s, false, &b);
+    const SegmentLayout& l = segment_layout_[s];
+    if (l.rest_start) rest_rates(s, true, &b);
+    if (l.rest_end) rest_rates(s, false, &b);
     if ((terms_ & kTermBoundaryHeading) && settings_.weight_boundary_heading > 0.0) {
-      if (s == 0) boundary_heading(s, true, &b);
-      if (s + 1 == num_segments) boundary_heading(s, false, &b);
+      if (l.rest_start) boundary_heading(s, true, &b);
+      if (l.rest_end) boundary_heading(s, false, &b);
     }
   }
   if ((terms_ & kTermExtra) && extra_cost_) {
@@ -361,8 +381,9 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
   auto add_gear = [&](int g, double eta, const Minco::BoundaryState& gs) {
     const int o = gear_layout_[g].offset;
     const double theta = x[o + kTrajDim];
-    for (int k = 0; k < kTrajDim; ++k) grad[o + k] += gs(k, 0);
-    grad[o + kTrajDim] += eta * vns * (-gs(0, 1) * std::sin(theta) + gs(1, 1) * std::cos(theta));
+    const bool rest = gear_layout_[g].rest;  // base position and theta unused: zero gradient
+    for (int k = rest ? 2 : 0; k < kTrajDim; ++k) grad[o + k] += gs(k, 0);
+    if (!rest) grad[o + kTrajDim] += eta * vns * (-gs(0, 1) * std::sin(theta) + gs(1, 1) * std::cos(theta));
     for (int d = 0; d < kNumArmJoints; ++d) {
       grad[o + kTrajDim + 1 + d] += gs(2 + d, 1);
       grad[o + kTrajDim + 1 + kNumArmJoints + d] += gs(2 + d, 2);
@@ -373,6 +394,7 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
     Minco::BoundaryState gh, gt;
     minco_[s].propagate_gradient(grad_c_[s], grad_t_[s], grad_q_[s], grad_t_total_, gh, gt);
     Eigen::Map<Minco::Waypoints>(grad + l.q_offset, kTrajDim, l.pieces - 1) = grad_q_[s];
+    if (l.still) Eigen::Map<Minco::Waypoints>(grad + l.q_offset, kTrajDim, l.pieces - 1).topRows<2>().setZero();
     for (int i = 0; i < l.pieces; ++i) {
       grad[l.tau_offset + i] = grad_t_total_[i] * dtdtau_[s][i];
       grad[time_scale_index_] += grad_t_total_[i] * durations_[s][i];
@@ -439,6 +461,12 @@ std::vector<TrajectoryPiece> MidendProblem::pieces(const double* x) {
       p.duration_s = durations_[s][i];
       p.eta = reference_.segments[s].eta;
       p.coeffs = minco_[s].piece(i);
+      if (segment_layout_[s].still) {  // exactly at rest (the solve leaves rounding residue)
+        p.coeffs.col(0).setZero();
+        p.coeffs.col(1).setZero();
+        p.coeffs(0, 0) = segment_layout_[s].still_base.x();
+        p.coeffs(0, 1) = segment_layout_[s].still_base.y();
+      }
       out.push_back(p);
     }
   }

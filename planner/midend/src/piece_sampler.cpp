@@ -119,9 +119,9 @@ void joints(const SamplerConstants& k, Sample& s, CostBreakdown& g) {
   }
 }
 
-void residual(const SamplerConstants& k, int eta, const RobotConfiguration& node,
+void residual(const SamplerConstants& k, int eta, bool base, const RobotConfiguration& node,
               const double* dir, double share, Sample& s, CostBreakdown& g) {
-  if (k.residual_base) {
+  if (base && k.residual_base) {
     const double dx = s.pos[0] - node.base.x_m, dy = s.pos[1] - node.base.y_m;
     const double vx = s.vel[0], vy = s.vel[1];
     const double ux = dir[0], uy = dir[1];
@@ -221,11 +221,11 @@ double sample_piece(const SamplerConstants& k, const PieceInputs& in, const doub
                     double duration_s, int kappa, double* grad_c, double* grad_t,
                     CostBreakdown* breakdown) {
   const double h = duration_s / kappa;
-  const bool min_speed = k.min_speed && in.min_speed_mps > 0.0;
+  const bool min_speed = k.min_speed && in.min_speed_mps > 0.0 && !in.base_still;
   const double inv_vmin2 = min_speed ? 1.0 / (in.min_speed_mps * in.min_speed_mps) : 0.0;
-  const bool wheels_on = k.wheel_velocity || k.wheel_acceleration;
+  const bool wheels_on = (k.wheel_velocity || k.wheel_acceleration) && !in.base_still;
   const bool joints_on = k.joint_position || k.joint_velocity || k.joint_acceleration;
-  const bool residual_on = k.residual_base || k.residual_arm;
+  const bool residual_on = (k.residual_base && !in.base_still) || k.residual_arm;
   double total = 0.0, gt = 0.0;
   CostBreakdown sums;  // integrals of each term over the piece
   int node = 0;        // nearest reference node (piece-local), advanced with j
@@ -268,8 +268,8 @@ double sample_piece(const SamplerConstants& k, const PieceInputs& in, const doub
       bool tie = false;
       nearest_node(in.fractions, in.num_edges, j, kappa, &node, &tie);
       const double share = tie ? 0.5 : 1.0;
-      residual(k, in.eta, in.nodes[node], in.dirs[node].data(), share, s, g);
-      if (tie) residual(k, in.eta, in.nodes[node + 1], in.dirs[node + 1].data(), share, s, g);
+      residual(k, in.eta, !in.base_still, in.nodes[node], in.dirs[node].data(), share, s, g);
+      if (tie) residual(k, in.eta, !in.base_still, in.nodes[node + 1], in.dirs[node + 1].data(), share, s, g);
     }
     const double value = g.total();
     if (value == 0.0 && !s.any) continue;

@@ -54,6 +54,7 @@ struct PieceInputs {
   const std::array<double, 2>* dirs = nullptr; ///< (cos, sin) of each node's yaw
   const double* fractions = nullptr;           ///< each node's time fraction: 0 .. 1 (nearest_node.hpp)
   double min_speed_mps = 0.0;  ///< > 0: keep |v_xy| above it
+  bool base_still = false;     ///< a still segment's piece: no base terms (the base is held)
 };
 
 /// Integrates the sampled penalties over one piece with `kappa` trapezoid intervals. `coeffs`

@@ -14,6 +14,7 @@ struct Node {
 };
 struct Segment {
   int eta = 1;
+  bool still = false;
   std::vector<Node> nodes;
 };
 
@@ -58,6 +59,57 @@ Node interpolate(const Node& a, const Node& b, double s) {
   return n;
 }
 
+// Step 5b: the longest tail of `nodes` (edges e .. n-2, e >= 1 so that an edge stays moving)
+// whose base path and heading change stay within the still bounds and which moves the arm by
+// still_min_arm_rad; returns its first node e, or -1.
+int still_tail_start(const std::vector<Node>& nodes, const MidendSettings& st) {
+  double base = 0.0, yaw = 0.0, arm = 0.0;
+  int best = -1;
+  for (int e = static_cast<int>(nodes.size()) - 2; e >= 1; --e) {
+    const Node& a = nodes[static_cast<std::size_t>(e)];
+    const Node& b = nodes[static_cast<std::size_t>(e + 1)];
+    base += base_distance(a, b);
+    yaw += std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad));
+    arm += (b.config.q_rad - a.config.q_rad).norm();
+    if (base > st.still_max_base_m || yaw > st.still_max_yaw_rad) break;
+    if (arm >= st.still_min_arm_rad) best = e;
+  }
+  return best;
+}
+
+// Splits nodes[k..] (at_end) or nodes[..k] off `seg` as a still segment whose nodes all carry the
+// end's base pose; the moving part's junction node gets it too. False (seg untouched) when the
+// moving part would no longer move the base.
+bool split_still(Segment& seg, int k, bool at_end, const MidendSettings& st, Segment* still) {
+  std::vector<Node> nodes = seg.nodes;
+  const std::size_t n = nodes.size();
+  const BasePose end = at_end ? nodes.back().config.base : nodes.front().config.base;
+  Segment moving;
+  moving.eta = seg.eta;
+  still->eta = seg.eta;
+  still->still = true;
+  const std::size_t j = static_cast<std::size_t>(k);
+  if (at_end) {
+    moving.nodes.assign(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(j) + 1);
+    still->nodes.assign(nodes.begin() + static_cast<std::ptrdiff_t>(j), nodes.end());
+    moving.nodes.back().config.base = end;
+  } else {
+    const std::size_t h = n - 1 - j;  // head nodes 0..h
+    still->nodes.assign(nodes.begin(), nodes.begin() + static_cast<std::ptrdiff_t>(h) + 1);
+    moving.nodes.assign(nodes.begin() + static_cast<std::ptrdiff_t>(h), nodes.end());
+    moving.nodes.front().config.base = end;
+  }
+  for (Node& node : still->nodes) node.config.base = end;
+  drop_coincident(moving, st.coincident_tolerance);
+  drop_coincident(*still, st.coincident_tolerance);
+  if (still->nodes.size() < 2 || moving.nodes.size() < 2 ||
+      base_length(moving) < std::max(st.min_segment_length_m, 1e-9)) {
+    return false;
+  }
+  seg = std::move(moving);
+  return true;
+}
+
 // Initial time allocation over all pieces of all segments (piece order): a speed profile along
 // the base path limited by the wheel speed (v (1 + d_w |kappa| / 2) <= r omega_max, kappa from the
 // edge's heading change per metre), the joint speeds, rest at the global start and goal, v_ns at
@@ -95,9 +147,10 @@ void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits&
       e.cap_mps = v_max / (1.0 + 0.5 * limits.track_width_m * curvature);
       e.cap_mps = std::min(e.cap_mps, e.length_m / e.floor_s);
       edges.push_back(e);
-      const bool gear = i + 2 == nodes.size() && s + 1 < segments.size();
+      const bool junction = i + 2 == nodes.size() && s + 1 < segments.size();
+      const bool rest = junction && (segments[s].base_still || segments[s + 1].base_still);
       const bool goal = i + 2 == nodes.size() && s + 1 == segments.size();
-      v_node.push_back(goal ? 0.0 : gear ? v_ns : v_max);
+      v_node.push_back(goal || rest ? 0.0 : junction ? v_ns : v_max);
     }
   }
   const std::size_t n = edges.size();
@@ -130,9 +183,12 @@ void group_pieces(std::vector<ReferenceSegment>& segments, const MidendSettings&
     ReferenceSegment& seg = segments[s];
     const std::vector<double> edge_s = std::move(seg.durations_s);
     const int num_edges = static_cast<int>(edge_s.size());
-    // The edge next to a gear switch is a piece of its own (densely sampled, base at v_ns).
-    const int first_free = s > 0 ? 1 : 0;
-    const int last_free = s + 1 < num_segments ? num_edges - 1 : num_edges;
+    // The edge next to a gear switch is a piece of its own (densely sampled, base at v_ns); a
+    // junction with a still segment is a rest instant like the goal, not a gear switch.
+    const bool gear_before = s > 0 && !seg.base_still && !segments[s - 1].base_still;
+    const bool gear_after = s + 1 < num_segments && !seg.base_still && !segments[s + 1].base_still;
+    const int first_free = gear_before ? 1 : 0;
+    const int last_free = gear_after ? num_edges - 1 : num_edges;
     seg.knots.assign(1, 0);
     double length = 0.0, arm = 0.0, first_s = 0.0;
     int edges = 0;
@@ -167,7 +223,7 @@ void group_pieces(std::vector<ReferenceSegment>& segments, const MidendSettings&
     for (int p = 0; p < num_pieces; ++p) {
       const int m = seg.knots[p + 1] - seg.knots[p];
       int kappa = std::max({settings.samples_per_piece, settings.samples_per_edge * m, 2 * m});
-      const bool gear = (s > 0 && p == 0) || (s + 1 < num_segments && p + 1 == num_pieces);
+      const bool gear = (gear_before && p == 0) || (gear_after && p + 1 == num_pieces);
       if (gear) kappa *= settings.gear_sample_factor;
       kappa += kappa % 2;  // even: the instants midway between nodes are samples
       kappa = std::min(kappa, std::max(ReferenceSegment::kMaxSamplesPerPiece, 2 * m));
@@ -283,12 +339,26 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     return out;
   }
 
+  // 5b. still ends: the base rests at the goal (start) while the arm finishes (starts).
+  if (settings.still_max_base_m > 0.0) {
+    Segment still;
+    const int tail = still_tail_start(segs.back().nodes, settings);
+    if (tail > 0 && split_still(segs.back(), tail, true, settings, &still)) segs.push_back(std::move(still));
+    std::vector<Node> reversed(segs.front().nodes.rbegin(), segs.front().nodes.rend());
+    const int head = segs.front().still ? -1 : still_tail_start(reversed, settings);
+    Segment still_head;
+    if (head > 0 && split_still(segs.front(), head, false, settings, &still_head)) {
+      segs.insert(segs.begin(), std::move(still_head));
+    }
+  }
+
   // 6-8. densify, allocate time, group edges into pieces.
   const double base_step = settings.densify_factor * settings.residual_base_bound_m;
   const double arm_step = settings.densify_factor * settings.residual_arm_bound_rad;
   for (const Segment& s : segs) {
     ReferenceSegment r;
     r.eta = s.eta;
+    r.base_still = s.still;
     r.nodes.push_back(s.nodes.front().config);
     for (std::size_t i = 1; i < s.nodes.size(); ++i) {
       const Node& a = s.nodes[i - 1];

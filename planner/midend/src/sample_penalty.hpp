@@ -27,6 +27,7 @@ struct SamplePenalty {
   const double* fractions = nullptr;               ///< their time fractions (nearest_node.hpp)
   double duration_s = 0.0;                         ///< piece duration (for the breakdown)
   double min_speed_mps = 0.0;                      ///< > 0: keep |v_xy| above it
+  bool base_still = false;                         ///< still segment: no base terms
   CostBreakdown* breakdown = nullptr;              ///< integrated per-term costs, if non-null
 
   double operator()(minco::PenaltySample<kTrajDim>& s) const {
@@ -35,9 +36,9 @@ struct SamplePenalty {
     s.grad_acc.setZero();
     s.grad_jerk.setZero();
     CostBreakdown g;  // this sample's integrand values, by term
-    wheels(s, g);
+    if (!base_still) wheels(s, g);
     joints(s, g);
-    if ((terms & kTermMinSpeed) && min_speed_mps > 0.0 && settings->weight_min_speed > 0.0) {
+    if ((terms & kTermMinSpeed) && !base_still && min_speed_mps > 0.0 && settings->weight_min_speed > 0.0) {
       const Eigen::Vector2d v = s.vel.head<2>();
       const double inv = 1.0 / (min_speed_mps * min_speed_mps);
       double dphi = 0.0;
@@ -136,7 +137,7 @@ struct SamplePenalty {
 
   void residual(minco::PenaltySample<kTrajDim>& s, const RobotConfiguration& node, double share,
                 CostBreakdown& g) const {
-    if ((terms & kTermResidualBase) && settings->weight_residual_base > 0.0) {
+    if ((terms & kTermResidualBase) && !base_still && settings->weight_residual_base > 0.0) {
       const Eigen::Vector2d dp(s.pos[0] - node.base.x_m, s.pos[1] - node.base.y_m);
       const Eigen::Vector2d v = s.vel.head<2>();
       Eigen::Vector2d dphi_dv;

@@ -155,6 +155,24 @@ TEST(MidendGradient, ReverseOnly) {
   b.arm_to(q).arc(1.0, 0.8, -1).straight(1.0, -1);
   check(b.build(), 13, "reverse_only", false);
 }
+TEST(MidendGradient, StillEndsWithRestJunctions) {
+  // The arm moves alone at the start and at the goal: still segments at both ends, joined to the
+  // driving segment by rest junctions (reference_path.hpp, step 5b).
+  JointVector q1 = testing::carry_pose(), q2 = testing::carry_pose();
+  q1[0] = 0.6;
+  q2[0] = -0.4;
+  q2[3] = 0.5;
+  testing::PathBuilder b({0.0, 0.0, 0.3}, testing::carry_pose());
+  b.arm_only(q1).straight(1.5, 1).arc(1.2, 0.6, 1).arm_only(q2);
+  const planner::WholeBodyPath path = b.build();
+  const MidendLimits limits = tight_limits();
+  const ReferenceBuild ref = build_reference_path(path, limits, MidendSettings{});
+  ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+  ASSERT_EQ(ref.path.segments.size(), 3u);
+  EXPECT_TRUE(ref.path.segments.front().base_still);
+  EXPECT_TRUE(ref.path.segments.back().base_still);
+  check(path, 15, "still_ends", false);  // the rest boundaries are inside, not at t = 0 and the goal
+}
 TEST(MidendGradient, TwoNodes) {
   testing::PathBuilder b({0.0, 0.0, 0.2}, testing::carry_pose(), 2.0);
   b.straight(1.0, 1);

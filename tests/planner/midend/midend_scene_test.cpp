@@ -4,7 +4,13 @@
 // evaluation and wheel kinematics, not the mid-end's formulas): boundary states exact, C2 at
 // every same-direction knot, gear states pinned (v_ns along a continuous heading), every limit
 // within 2 %, pose residuals within rho of the front-end node nearest in time, yaw continuous.
-// The budget is generous: these tests are about the optimum, never about time.
+// The mid-end budget is generous: these tests are about the optimum, never about time.
+//
+// Determinism: the front-end is deterministic for a seed only when it stops on its iteration
+// count before its time budget. It gets 5 s, and the seeds are ones whose front-end finishes in
+// well under 100 ms unloaded (bridge 1: ~2 ms, tunnel 1: ~40 ms, forest 10: ~35 ms, forest 14:
+// ~20 ms; no whole-body fallback), so a loaded CI machine cannot change the path (a 50x
+// slowdown would be needed). Fixed seeds: no scanning for the first seed that succeeds.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -19,17 +25,17 @@ namespace {
 
 struct SceneCase {
   const char* scene;
-  std::uint64_t first_seed;
+  std::uint64_t seed;
 };
+
+constexpr double kFrontendBudgetS = 5.0;
 
 class MidendSceneTest : public ::testing::TestWithParam<SceneCase> {};
 
 TEST_P(MidendSceneTest, RealFrontendPathMeetsEveryCheckedProperty) {
   const SceneCase& c = GetParam();
-  // The front-end occasionally fails on a seed (its own benchmark: 86-100 % success); take the
-  // first seed that yields a path so the test is about the mid-end.
-  const std::optional<testing::ScenePath> sp = testing::first_frontend_path(c.scene, c.first_seed, 6, 2.0);
-  ASSERT_TRUE(sp.has_value()) << "the front-end found no path on " << c.scene << " for 6 seeds";
+  const std::optional<testing::ScenePath> sp = testing::frontend_path(c.scene, c.seed, kFrontendBudgetS);
+  ASSERT_TRUE(sp.has_value()) << "the front-end found no path on " << c.scene << " seed " << c.seed;
   const planner::WholeBodyPath& path = sp->path;
 
   const MidendSettings settings;
@@ -41,27 +47,15 @@ TEST_P(MidendSceneTest, RealFrontendPathMeetsEveryCheckedProperty) {
   EXPECT_LT(r.final_cost.total(), r.initial_cost.total());
 
   const testing::CheckReport k = testing::check_trajectory(*r.trajectory, path, midend.limits(), settings);
-  EXPECT_TRUE(k.finite);
-  EXPECT_TRUE(k.have_reference) << "the trajectory's pieces do not match the reference path";
-  EXPECT_LT(k.boundary_error, 1e-9);
-  EXPECT_LT(k.continuity_error, 1e-7);
-  EXPECT_LT(k.gear_error, 1e-7);
-  EXPECT_EQ(k.gear_switches, r.num_segments - 1);
-  EXPECT_LT(k.max_gear_yaw_jump_rad, 1e-3);
-  EXPECT_LT(k.max_yaw_step_rad, 0.02);  // yaw continuous everywhere at 1 ms
-  EXPECT_LE(k.wheel_velocity_ratio, 1.02);
-  EXPECT_LE(k.wheel_acceleration_ratio, 1.02);
-  EXPECT_LE(k.joint_velocity_ratio, 1.02);
-  EXPECT_LE(k.joint_acceleration_ratio, 1.02);
-  EXPECT_LE(k.joint_position_excess, 0.02);
-  EXPECT_LE(k.residual_base_ratio, 1.02);
-  EXPECT_LE(k.residual_arm_ratio, 1.02);
-  EXPECT_LT(k.start_heading_error_rad, 0.05);
-  EXPECT_LT(k.goal_heading_error_rad, 0.05);
+  std::string why;
+  for (const std::string& v : testing::violations(k)) why += "\n  " + v;
+  EXPECT_TRUE(why.empty()) << c.scene << " seed " << c.seed << " violates:" << why;
+  EXPECT_EQ(k.reversals, 0);
+  EXPECT_EQ(k.gear_switches + k.rest_junctions, r.num_segments - 1);
   std::printf("[%s seed %llu] %s: nodes %zu segs %d pieces %d iters %d evals %d T %.2f s (%.1f ms)\n"
               "  wheel w %.3f a %.3f joint v %.3f a %.3f q %.4f resid b %.3f m %.3f yaw step %.4f"
               " gear yaw %.2e heading %.3f/%.3f\n",
-              c.scene, static_cast<unsigned long long>(sp->seed), to_string(r.status), path.node_count(),
+              c.scene, static_cast<unsigned long long>(c.seed), to_string(r.status), path.node_count(),
               r.num_segments, r.num_pieces, r.iterations, r.evaluations,
               r.trajectory->total_duration_s(), 1e3 * r.optimize_s, k.wheel_velocity_ratio,
               k.wheel_acceleration_ratio, k.joint_velocity_ratio, k.joint_acceleration_ratio,
@@ -71,9 +65,9 @@ TEST_P(MidendSceneTest, RealFrontendPathMeetsEveryCheckedProperty) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, MidendSceneTest,
                          ::testing::Values(SceneCase{"bridge", 1}, SceneCase{"tunnel", 1},
-                                           SceneCase{"forest", 1}, SceneCase{"forest", 3}),
+                                           SceneCase{"forest", 10}, SceneCase{"forest", 14}),
                          [](const ::testing::TestParamInfo<SceneCase>& info) {
-                           return std::string(info.param.scene) + "_seed" + std::to_string(info.param.first_seed);
+                           return std::string(info.param.scene) + "_seed" + std::to_string(info.param.seed);
                          });
 
 }  // namespace

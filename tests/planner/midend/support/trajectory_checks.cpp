@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "porter/midend/diff_drive.hpp"
 #include "porter/midend/reference_path.hpp"
@@ -26,11 +27,16 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
   struct PieceRef {
     std::vector<const RobotConfiguration*> nodes;
     std::vector<double> fractions;
+    int segment = 0;
+    bool still = false;
   };
   std::vector<PieceRef> refs;
-  for (const auto& seg : ref.path.segments) {
+  for (std::size_t si = 0; si < ref.path.segments.size(); ++si) {
+    const auto& seg = ref.path.segments[si];
     for (int p = 0; p < seg.num_pieces(); ++p) {
       PieceRef pr;
+      pr.segment = static_cast<int>(si);
+      pr.still = seg.base_still;
       for (int k = 0; k <= seg.edges_in_piece(p); ++k) {
         pr.nodes.push_back(&seg.nodes[static_cast<std::size_t>(seg.knots[p] + k)]);
         pr.fractions.push_back(seg.fraction_in_piece(p, k));
@@ -62,11 +68,38 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
         std::abs(angle_difference(traj.yaw_rad(total), last.base.yaw_rad));
   }
 
+  // Segment of every piece: from the reference when it matches, else from eta changes.
+  std::vector<int> piece_segment(static_cast<std::size_t>(n), 0);
+  std::vector<bool> piece_still(static_cast<std::size_t>(n), false);
+  for (int i = 0; i < n; ++i) {
+    if (have_edges) {
+      piece_segment[static_cast<std::size_t>(i)] = refs[static_cast<std::size_t>(i)].segment;
+      piece_still[static_cast<std::size_t>(i)] = refs[static_cast<std::size_t>(i)].still;
+    } else if (i > 0) {
+      piece_segment[static_cast<std::size_t>(i)] =
+          piece_segment[static_cast<std::size_t>(i - 1)] + (traj.piece(i).eta != traj.piece(i - 1).eta);
+    }
+  }
+
   // Knots.
   for (int i = 0; i + 1 < n; ++i) {
     const TrajectoryPiece& a = traj.piece(i);
     const TrajectoryPiece& b = traj.piece(i + 1);
-    if (a.eta == b.eta) {
+    const bool rest_junction = piece_segment[static_cast<std::size_t>(i)] != piece_segment[static_cast<std::size_t>(i + 1)] &&
+                               (piece_still[static_cast<std::size_t>(i)] || piece_still[static_cast<std::size_t>(i + 1)]);
+    if (rest_junction) {
+      // The base comes to rest (or leaves it) while the arm goes on: C^2, base v = a = 0.
+      ++r.rest_junctions;
+      for (int k = 0; k <= 2; ++k) {
+        const TrajVector l = piece_derivative(a.coeffs, a.duration_s, k);
+        const TrajVector rr = piece_derivative(b.coeffs, 0.0, k);
+        r.continuity_error = std::max(r.continuity_error,
+                                      (l - rr).cwiseAbs().maxCoeff() / std::max(1.0, l.cwiseAbs().maxCoeff()));
+        if (k > 0) {
+          r.rest_junction_error = std::max({r.rest_junction_error, l.head<2>().norm(), rr.head<2>().norm()});
+        }
+      }
+    } else if (a.eta == b.eta) {
       for (int k = 0; k <= 4; ++k) {
         const TrajVector l = piece_derivative(a.coeffs, a.duration_s, k);
         const TrajVector rr = piece_derivative(b.coeffs, 0.0, k);
@@ -99,6 +132,9 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
   // Dense samples.
   const int steps = static_cast<int>(std::ceil(total / dt_s));
   double prev_yaw = traj.yaw_rad(0.0);
+  Eigen::Vector2d prev_v = Eigen::Vector2d::Zero();  // last base velocity above kMoving
+  int prev_segment = -1;
+  constexpr double kMoving_mps = 1e-6;
   const double rho_b2 = settings.residual_base_bound_m * settings.residual_base_bound_m;
   for (int s = 0; s <= steps; ++s) {
     const double t = std::min(s * dt_s, total);
@@ -112,6 +148,20 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
       continue;
     }
     r.max_yaw_step_rad = std::max(r.max_yaw_step_rad, std::abs(angle_difference(st.base.yaw_rad, prev_yaw)));
+    {
+      const int seg = piece_segment[static_cast<std::size_t>(st.piece)];
+      const Eigen::Vector2d v = st.z_dot.head<2>();
+      if (seg != prev_segment) {
+        prev_segment = seg;
+        prev_v.setZero();
+      }
+      if (piece_still[static_cast<std::size_t>(st.piece)]) {
+        r.rest_junction_error = std::max(r.rest_junction_error, v.norm());
+      } else if (v.norm() > kMoving_mps) {
+        if (prev_v.norm() > kMoving_mps && v.dot(prev_v) < 0.0) ++r.reversals;
+        prev_v = v;
+      }
+    }
     prev_yaw = st.base.yaw_rad;
     r.wheel_velocity_ratio = std::max({r.wheel_velocity_ratio, std::abs(st.wheels.left_radps) / limits.wheel_omega_max_radps,
                                        std::abs(st.wheels.right_radps) / limits.wheel_omega_max_radps});
@@ -153,6 +203,36 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
     }
   }
   return r;
+}
+
+std::vector<std::string> violations(const CheckReport& r, const CheckTolerances& tol) {
+  std::vector<std::string> out;
+  char buf[160];
+  auto above = [&](double value, double bound, const char* what) {
+    if (!(value <= bound)) {
+      std::snprintf(buf, sizeof buf, "%s %.4g (bound %.4g)", what, value, bound);
+      out.emplace_back(buf);
+    }
+  };
+  if (!r.finite) out.emplace_back("non-finite state");
+  if (!r.have_reference) out.emplace_back("pieces do not match the reference path");
+  above(r.boundary_error, tol.boundary, "boundary error");
+  above(r.continuity_error, tol.continuity, "continuity error");
+  above(r.gear_error, tol.continuity, "gear-switch error");
+  above(r.rest_junction_error, tol.continuity, "base motion at rest junctions / still pieces");
+  if (r.reversals > 0) out.emplace_back("base reverses inside a segment (" + std::to_string(r.reversals) + "x)");
+  above(r.max_gear_yaw_jump_rad, tol.gear_yaw_jump_rad, "yaw jump at a gear switch, rad");
+  above(r.max_yaw_step_rad, tol.yaw_step_rad, "yaw step between samples, rad");
+  above(r.wheel_velocity_ratio, tol.limit_ratio, "wheel velocity / limit");
+  above(r.wheel_acceleration_ratio, tol.limit_ratio, "wheel acceleration / limit");
+  above(r.joint_velocity_ratio, tol.limit_ratio, "joint velocity / limit");
+  above(r.joint_acceleration_ratio, tol.limit_ratio, "joint acceleration / limit");
+  above(r.joint_position_excess, tol.joint_position_excess, "joint position excess / range");
+  above(r.residual_base_ratio, tol.residual_ratio, "base residual / rho_b");
+  above(r.residual_arm_ratio, tol.residual_ratio, "arm residual / rho_m");
+  above(r.start_heading_error_rad, tol.heading_rad, "start heading error, rad");
+  above(r.goal_heading_error_rad, tol.heading_rad, "goal heading error, rad");
+  return out;
 }
 
 }  // namespace porter::midend::testing

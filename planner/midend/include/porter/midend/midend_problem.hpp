@@ -12,10 +12,18 @@
 //     base velocity pinned to eta_s * v_ns * [cos theta_g, sin theta_g] on each side (so the
 //     base reverses through the switch while yaw = atan2(eta zdot_y, eta zdot_x) = theta_g on
 //     both sides), base acceleration zero (as REMANI), joint velocity/acceleration shared by both
-//     sides (the arm stays C^2 through the switch).
+//     sides (the arm stays C^2 through the switch);
+//   - a rest junction g between a moving segment and a still segment (reference_path.hpp, step
+//     5b: the base rests at the goal / start pose while the arm finishes / starts): the same
+//     decision state as a gear switch, but the base position is the still segment's (fixed; z_g's
+//     base entries and theta_g are unused and get a zero gradient) and the base velocity and
+//     acceleration are zero, so the moving side ends (starts) at rest like the goal (start).
+// A still segment's waypoints hold the base at its pose too (their base entries are unused), so
+// its MINCO base columns are constant; pieces() writes them exactly constant, and the sampled
+// base terms (wheels, min speed, base residual) are skipped on its pieces.
 // Decision vector x (in this order): for each segment, its interior waypoints (8 x (M_s - 1),
-// column-major) then its M_s time variables tau; then for each gear switch
-// [z_g (8), theta_g, qd_g (6), qdd_g (6)]; last, one global time-scale variable sigma. Piece
+// column-major) then its M_s time variables tau; then for each junction (gear switch or rest
+// junction) [z_g (8), theta_g, qd_g (6), qdd_g (6)]; last, one global time-scale variable sigma. Piece
 // durations are T_i = exp(sigma) * T(tau_i) (T(tau): time_map.hpp). sigma is redundant (it is 0
 // in the initial guess) but gives L-BFGS a direct direction for speeding the whole trajectory
 // up or down, which the penalties otherwise make a long, narrow valley in the tau_i.
@@ -25,12 +33,12 @@
 // nearest in time: a piece spans one or more reference edges whose nodes sit at fixed fractions
 // of its duration (reference_path.hpp, step 8); a sample at fraction j/kappa uses the node with
 // the nearest fraction, and both at half weight when exactly midway — for a one-edge piece,
-// node i when j < kappa/2, node i+1 when j > kappa/2), plus the boundary-heading term at the
-// global start and goal and the non-singular speed term (midend_settings.hpp). A piece of m
+// node i when j < kappa/2, node i+1 when j > kappa/2), plus the boundary-heading term at every
+// rest boundary and the non-singular speed term (midend_settings.hpp). A piece of m
 // edges uses the kappa the reference path gives it (ReferenceSegment::intervals: about
 // samples_per_edge per edge, gear_sample_factor times more next to a gear switch).
 //
-// Rest boundaries: at the global start and goal v = a = 0 and the sampled wheel terms see only
+// Rest boundaries: at the global start and goal (and at rest junctions) v = a = 0 and the sampled wheel terms see only
 // the guarded (zero) rates. Near a rest instant t0, p_xy'(t) = (t - t0)^2 U(t) with
 // U = j/2 + s (t - t0)/6 + c (t - t0)^2/24 (j, s, c = jerk, snap, crackle at t0), so the exact
 // limits are omega_b = (U x U')/|U|^2 and alpha_b = (U x U'')/|U|^2 - 2 (U x U')(U . U')/|U|^4 at
@@ -149,9 +157,15 @@ class MidendProblem {
     std::vector<double> min_speed;  ///< per piece: speed kept by the min-speed term (0: none), m/s
     std::vector<int> kappa;       ///< per piece: sampling intervals
     std::vector<std::vector<double>> fractions;  ///< per piece: its nodes' time fractions
+    bool still = false;        ///< a still segment: base held at still_base
+    Eigen::Vector2d still_base = Eigen::Vector2d::Zero();
+    bool rest_start = false;   ///< the base rests at the segment's start (global start, still
+    bool rest_end = false;     ///< neighbour) / end (goal, still neighbour)
   };
   struct GearLayout {
     int offset = 0;       ///< [z (8), theta, qd (6), qdd (6)]
+    bool rest = false;    ///< a rest junction (with a still segment): base fixed at `base`
+    Eigen::Vector2d base = Eigen::Vector2d::Zero();
   };
   static constexpr int kGearVars = kTrajDim + 1 + 2 * kNumArmJoints;
 

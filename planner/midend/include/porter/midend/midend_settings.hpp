@@ -8,7 +8,7 @@
 namespace porter::midend {
 
 /// liblbfgs line-search choices exposed by the mid-end.
-enum class LineSearch { kMoreThuente, kBacktrackingWolfe, kBacktrackingStrongWolfe };
+enum class LineSearch { kMoreThuente, kBacktrackingWolfe, kBacktrackingStrongWolfe, kBacktrackingArmijo };
 
 struct MidendSettings {
   // --- Transcription ---------------------------------------------------------------------
@@ -83,6 +83,19 @@ struct MidendSettings {
   /// A segment whose base path is shorter than this (m) carries no base motion: its arm motion
   /// is merged into a neighbour and its gear switches are dropped.
   double min_segment_length_m = 1e-3;
+  /// Still ends (reference_path.hpp, step 5b). The front-end often reaches the goal with a last
+  /// edge that moves the base a few millimetres while the arm turns by a radian (and may leave
+  /// the start likewise). Timed by the arm, such an edge asks the base to creep, and a quintic
+  /// entering it at speed overshoots and reverses inside the segment. Instead, a goal tail (start
+  /// head) of front-end edges of the end segment whose base path is at most still_max_base_m,
+  /// whose heading changes by at most still_max_yaw_rad and which moves the arm by at least
+  /// still_min_arm_rad (Euclidean over the joints) becomes a still segment: the base rests at
+  /// the goal (start) pose while the arm finishes (starts) its motion. still_max_base_m = 0
+  /// disables. Keep still_max_base_m well below residual_base_bound_m: the still segment's nodes
+  /// are moved onto the end pose. >= 0, >= 0, >= 0.
+  double still_max_base_m = 0.1;
+  double still_max_yaw_rad = 0.25;
+  double still_min_arm_rad = 0.05;
   /// Edges longer than densify_factor * rho (base metric or joints) are split into pieces
   /// with linearly interpolated reference nodes, so the nearest node stays within reach. >= 1.
   /// The residual uses the node nearest in *time*; on a rest-to-rest piece the position at half
@@ -133,6 +146,13 @@ struct MidendSettings {
   /// boundaries the wheel-acceleration penalty (yaw acceleration at |v| <= v_ns) makes full
   /// quasi-Newton steps overshoot by orders of magnitude, hence ~2 evaluations per iteration.
   LineSearch line_search = LineSearch::kBacktrackingWolfe;
+  /// Result check (MidendStatus::kConstraintViolation): the final trajectory is sampled every
+  /// verify_step_s through porter::Trajectory; a wheel or joint limit exceeded by more than
+  /// verify_tolerance (relative; joint positions: fraction of the range) or a base reversal
+  /// inside a segment rejects it. The penalties leave small violations between samples, hence
+  /// the tolerance. verify_step_s <= 0 disables the check. tolerance >= 0.
+  double verify_tolerance = 0.05;
+  double verify_step_s = 0.01;
   /// Time budget used by MidEnd::solve() when the caller passes a non-positive one, s.
   double default_time_budget_s = 0.1;
 };

@@ -23,6 +23,10 @@ enum class MidendStatus {
   kNumericalFailure,
   /// liblbfgs failed without decreasing the cost (or with an internal error); no trajectory.
   kOptimizerFailed,
+  /// The optimized trajectory breaks a limit by more than MidendSettings::verify_tolerance or
+  /// the base reverses inside a segment (a poor local minimum, typically on a degenerate path);
+  /// the message says what and when. No trajectory: it must not be executed.
+  kConstraintViolation,
 };
 
 inline const char* to_string(MidendStatus s) {
@@ -36,6 +40,7 @@ inline const char* to_string(MidendStatus s) {
     case MidendStatus::kInvalidRobotLimits: return "invalid robot limits";
     case MidendStatus::kNumericalFailure: return "numerical failure";
     case MidendStatus::kOptimizerFailed: return "optimizer failed";
+    case MidendStatus::kConstraintViolation: return "constraint violation in the optimized trajectory";
   }
   return "unknown";
 }

@@ -13,12 +13,18 @@
 //      segments: the base does not move, so there is no gear switch); their arm motion is kept
 //      by appending their nodes to the previous segment (or prepending to the next one);
 //   5. merges consecutive segments with the same eta;
+//   5b. splits off still ends (MidendSettings::still_max_base_m): the longest goal tail of the
+//      last segment (start head of the first) whose base path and heading change are within
+//      still_max_base_m / still_max_yaw_rad and which moves the arm by still_min_arm_rad becomes
+//      a still segment (base_still, same eta) whose nodes, and the moving part's junction node,
+//      carry the goal (start) base pose: the base comes to rest at the goal, then the arm
+//      finishes. Skipped when the moving part would no longer move the base;
 //   6. splits every edge longer than densify_factor * rho_b (base metric
 //      sqrt(|dp|^2 + w_phi dyaw^2)) or densify_factor * rho_m (joints) into equal sub-edges with
 //      linearly interpolated nodes (yaw along the shortest arc): the residual's reference nodes;
 //   7. allocates initial durations to every edge from a speed profile over all edges: node
 //      speeds bounded by the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <=
-//      r omega_max), the joint speeds, 0 at the global start and goal, v_ns at gear switches,
+//      r omega_max), the joint speeds, 0 at the global start and goal and on still segments, v_ns at gear switches,
 //      then forward/backward passes with the wheel acceleration bound (a <= r alpha_max), all at
 //      initial_speed_fraction of the limits; an edge lasts 2 L / (v_k + v_k+1), at least its
 //      heading / joint motion at the limited rates and min_initial_piece_duration_s. The
@@ -26,7 +32,7 @@
 //      below the limits);
 //   8. groups consecutive edges into pieces (greedy along the segment): a piece ends before it
 //      would exceed piece_length_m of base path, piece_arm_motion_rad of joint motion or
-//      max_edges_per_piece edges; the edge next to a gear switch is a piece of its own (the base
+//      max_edges_per_piece edges; the edge next to a gear switch (not a rest junction) is a piece of its own (the base
 //      runs at v_ns there and turns fast; it is sampled gear_sample_factor times denser). A
 //      piece's initial duration is the sum of its edges'; each node inside a piece keeps the
 //      fraction of the piece's duration at which its edge times put it, so "the node nearest in
@@ -50,6 +56,10 @@ namespace porter::midend {
 
 struct ReferenceSegment {
   int eta = 1;
+  /// A still segment (step 4b): the base rests at its nodes' common base pose (the goal's, or the
+  /// start's) while only the arm moves; eta is its moving neighbour's. Its junction with that
+  /// neighbour is a rest junction: base velocity and acceleration zero, arm C^2.
+  bool base_still = false;
   std::vector<RobotConfiguration> nodes;  ///< >= 2 reference nodes (front-end + densified)
   /// Piece p spans nodes[knots[p]] .. nodes[knots[p + 1]]; knots.front() == 0 and
   /// knots.back() == nodes.size() - 1 (num_pieces() + 1 entries, strictly increasing).
@@ -75,7 +85,9 @@ struct ReferenceSegment {
 };
 
 struct ReferencePath {
-  std::vector<ReferenceSegment> segments;  ///< consecutive segments have opposite eta
+  /// Consecutive segments have opposite eta (a gear switch), except next to a still segment
+  /// (at most one at each end), which has its moving neighbour's eta (a rest junction).
+  std::vector<ReferenceSegment> segments;
   int num_pieces() const {
     int n = 0;
     for (const auto& s : segments) n += s.num_pieces();
