@@ -66,18 +66,22 @@ bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
   const MapKernel& map = map_;
   const PointTreePool& pool = kernels_.link_pool(link);
   const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
+  // A sphere of kernel points is clear when every point is farther than d_j from the core set:
+  // the cell's clearance exceeds its radius + d_j (in clearance units; reach2 carries the slack).
+  const float reach_units = std::sqrt(reach2) * units_per_voxel;
   if (pool.tree_begin(sample) == pool.tree_end(sample)) return false;
   // The root sphere first, without composing the full transform (most links are clear).
   const PointTreeNode& root = pool.nodes()[pool.tree_begin(sample)];
   const v4f c_B = T_B_J.apply(root.cx, root.cy, root.cz);
   const v4f c_V = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
-  if (root.radius_m * scale < static_cast<float>(map.clearance_units(c_V[0], c_V[1], c_V[2]))) return false;
+  if (root.radius_m * scale + reach_units < static_cast<float>(map.clearance_units(c_V[0], c_V[1], c_V[2])))
+    return false;
   const Pose4f T_V_J = T_V_B * T_B_J;
   return point_tree_any(
       pool, sample,
       [&](const PointTreeNode& n) {
         const v4f u = T_V_J.apply(n.cx, n.cy, n.cz);
-        return n.radius_m * scale < static_cast<float>(map.clearance_units(u[0], u[1], u[2]));
+        return n.radius_m * scale + reach_units < static_cast<float>(map.clearance_units(u[0], u[1], u[2]));
       },
       [&](float x, float y, float z) {
         const v4f u = T_V_J.apply(x, y, z);

@@ -34,8 +34,8 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
   const Eigen::Vector3i cell_hi = cell_hi_in.cwiseMin(cells_ - Eigen::Vector3i::Ones());
   if ((cell_lo.array() > cell_hi.array()).any()) return;
   // Voxel domain (grid indices): the cells' voxels grown by the cap (+2 for the dilation and
-  // rounding), but never more than 2 voxels beyond the grid: everything outside it is set, so a
-  // ring of it stands for all of it.
+  // rounding), but never more than 2 voxels beyond the grid: everything outside it is in the
+  // core set, so a ring of it stands for all of it.
   const int reach = static_cast<int>(std::ceil(cap_units_ / 4.0)) + 2;
   const Eigen::Vector3i lo = (2 * cell_lo - Eigen::Vector3i::Constant(reach)).cwiseMax(-2);
   const Eigen::Vector3i hi =
@@ -51,7 +51,7 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
       for (int x = 0; x < n.x(); ++x) {
         const Eigen::Vector3i v = lo + Eigen::Vector3i(x, y, z) + Eigen::Vector3i::Constant(pad_);  // padded
         const bool inside = (v.array() >= 0).all() && (v.array() < dims_.array()).all();
-        set[local(x, y, z)] = !inside || arm_bit(v.x(), v.y(), v.z());
+        set[local(x, y, z)] = !inside || core_bit(v.x(), v.y(), v.z());
       }
   // Centre distance to the 26-dilated set = smallest gap between the voxel's box and a set
   // voxel's box (exact squared distance transform).

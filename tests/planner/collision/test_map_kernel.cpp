@@ -22,7 +22,8 @@ OccupancyGrid random_grid(const Eigen::Vector3d& origin, double h, const Eigen::
   return g;
 }
 
-/// Every padded voxel of both sets equals the definition (reference flagged(), brute force).
+/// Every padded voxel of the base, core and arm sets equals the definition (reference flagged(),
+/// brute force).
 void expect_sets_match_definition(const MapKernel& mk, const test::ReferenceEnvironment& ref) {
   const int P = mk.padding();
   const Eigen::Vector3i n = mk.padded_dims();
@@ -32,6 +33,7 @@ void expect_sets_match_definition(const MapKernel& mk, const test::ReferenceEnvi
       for (int x = 0; x < n.x(); ++x) {
         const Eigen::Vector3i idx(x - P, y - P, z - P);
         ASSERT_EQ(mk.in_base(x, y, z), ref.flagged(idx, true)) << x << " " << y << " " << z;
+        ASSERT_EQ(mk.in_core(x, y, z), ref.flagged(idx, false)) << x << " " << y << " " << z;
         bool arm = false;
         for (int k = 0; k < 27 && !arm; ++k)
           arm = ref.flagged(idx + Eigen::Vector3i(k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1), false);
@@ -116,7 +118,7 @@ TEST(MapKernel, BaseColumnCountsMatchBruteForce) {
   }
 }
 
-TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheArmSet) {
+TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheCoreSet) {
   const OccupancyGrid grid = random_grid({0.0, 0.0, 0.0}, 0.1, {30, 24, 16}, 0.002, 6);
   MapKernelSettings s;
   s.distance_cap_m = 0.8;
@@ -127,7 +129,7 @@ TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheArmSet) {
   for (int z = 0; z < n.z(); ++z)
     for (int y = 0; y < n.y(); ++y)
       for (int x = 0; x < n.x(); ++x)
-        if (mk.in_arm(x, y, z)) arm.emplace_back(x, y, z);
+        if (mk.in_core(x, y, z)) arm.emplace_back(x, y, z);
   std::mt19937_64 rng(7);
   int positive = 0;
   for (int i = 0; i < 3000; ++i) {
@@ -137,7 +139,7 @@ TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheArmSet) {
                             static_cast<float>(test::uniform(rng, 1, n.z() - 1)));
     const double bound_voxels = mk.clearance_units(u.x(), u.y(), u.z()) / 4.0;
     positive += bound_voxels > 0;
-    double best = 1e9;  // distance (voxels) from u to the nearest arm-set voxel box
+    double best = 1e9;  // distance (voxels) from u to the nearest core voxel box
     for (const auto& v : arm) {
       const Eigen::Vector3d d = (v.cast<double>() - u.cast<double>())
                                     .cwiseMax(u.cast<double>() - v.cast<double>() - Eigen::Vector3d::Ones())

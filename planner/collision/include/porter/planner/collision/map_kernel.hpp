@@ -27,9 +27,9 @@
 //   - a 2D summed-area table of the base set projected over the base kernel's layers
 //     [ground, ground + base_layers): the number of set columns in any x-y rectangle in O(1);
 //   - a distance field over cells of 2 x 2 x 2 voxels of the grid's region: a lower bound, in
-//     units of h / 4, of the distance from any point of the cell to the nearest voxel of the arm
+//     units of h / 4, of the distance from any point of the cell to the nearest voxel of the core
 //     set (0 outside the grid's region), capped at distance_cap_m: the smallest box-to-box gap
-//     between one of the cell's voxels and an arm-set voxel, from an exact Euclidean distance
+//     between one of the cell's voxels and a core voxel, from an exact Euclidean distance
 //     transform at voxel level.
 //
 // Incremental update: set_map() with a grid of the same origin, resolution and size compares it
@@ -87,6 +87,11 @@ class MapKernel {
   bool arm_bit(int x, int y, int z) const {
     const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
     return (arm_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
+  }
+  /// Bit of the core set at padded index (precondition: inside the padded array).
+  bool core_bit(int x, int y, int z) const {
+    const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
+    return (core_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
   }
   /// Whether the point at padded voxel coordinates u lies within sqrt(r2) voxels (Euclidean,
   /// closed) of the box of a core voxel, for r2 < 1: only the 27 voxels around u's voxel can be
