@@ -55,23 +55,6 @@ KernelKinematics::FixedTransform::FixedTransform(const Eigen::Isometry3d& iso) :
   kind = Kind::kPermutation;
 }
 
-Pose4f KernelKinematics::FixedTransform::after(const Pose4f& parent) const {
-  if (kind == Kind::kGeneral) return parent * T;
-  Pose4f r;
-  r.t = parent.rotate(T.t) + parent.t;
-  if (kind == Kind::kTranslation) {
-    r.c0 = parent.c0;
-    r.c1 = parent.c1;
-    r.c2 = parent.c2;
-    return r;
-  }
-  const v4f* cols[3] = {&parent.c0, &parent.c1, &parent.c2};
-  r.c0 = *cols[column[0]] * v4f_splat(sign[0]);
-  r.c1 = *cols[column[1]] * v4f_splat(sign[1]);
-  r.c2 = *cols[column[2]] * v4f_splat(sign[2]);
-  return r;
-}
-
 KernelKinematics::KernelKinematics(const RobotModel& model) : T_L6_EE_(model.T_L6_EE) {
   for (int j = 0; j < kNumArmJoints; ++j) {
     const auto i = static_cast<std::size_t>(j);

@@ -75,7 +75,22 @@ class KernelKinematics {
     std::array<float, 3> sign{};
     explicit FixedTransform(const Eigen::Isometry3d& T = Eigen::Isometry3d::Identity());
     /// parent * T
-    Pose4f after(const Pose4f& parent) const;
+    Pose4f after(const Pose4f& parent) const {  // inline: a 64-byte result through memory stalls
+      if (kind == Kind::kGeneral) return parent * T;
+      Pose4f r;
+      r.t = parent.rotate(T.t) + parent.t;
+      if (kind == Kind::kTranslation) {
+        r.c0 = parent.c0;
+        r.c1 = parent.c1;
+        r.c2 = parent.c2;
+        return r;
+      }
+      const v4f* cols[3] = {&parent.c0, &parent.c1, &parent.c2};
+      r.c0 = *cols[column[0]] * v4f_splat(sign[0]);
+      r.c1 = *cols[column[1]] * v4f_splat(sign[1]);
+      r.c2 = *cols[column[2]] * v4f_splat(sign[2]);
+      return r;
+    }
   };
 
   std::array<FixedTransform, kNumArmJoints> T_parent_joint_;
