@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <queue>
+#include <random>
 #include <string>
 
 #include "base_motion.hpp"
+#include "porter/core/kinematics.hpp"
 #include "porter/frontend/deadline.hpp"
 
 namespace porter::frontend {
@@ -32,6 +35,7 @@ bool validate_settings(const HybridAStarSettings& s, std::string* why) {
   if (s.analytic_expansion_interval < 1) return bad("analytic_expansion_interval");
   if (s.max_shot_cusps < 0 || s.max_shot_cusps > 3) return bad("max_shot_cusps");
   if (!(s.arm_blocked_cost_factor >= 0.0)) return bad("arm_blocked_cost_factor");
+  if (s.narrow_shape_draws < 0) return bad("narrow_shape_draws");
   if (!(s.heuristic_resolution_m >= 0.02 && s.heuristic_resolution_m <= 1.0)) return bad("heuristic_resolution_m");
   if (s.max_expansions < 1) return bad("max_expansions");
   return true;
@@ -78,6 +82,34 @@ struct OpenItem {
 
 }  // namespace
 
+std::optional<JointVector> HybridAStar::narrow_shape(const BasePose& at, StageReport& rep) const {
+  // Seeded from the settings only: the same shape for every plan() of this object.
+  std::mt19937_64 rng(0x6a09e667f3bcc909ull);
+  const JointVector lo = model_.lower_limits(), hi = model_.upper_limits();
+  KinematicsWorkspace ws;
+  std::optional<JointVector> best;
+  double best_width = std::numeric_limits<double>::infinity();
+  for (int d = 0; d < settings_.narrow_shape_draws; ++d) {
+    RobotConfiguration c{BasePose{}, JointVector::Zero()};
+    for (int j = 0; j < kNumArmJoints; ++j) c.q_rad[j] = std::uniform_real_distribution<double>(lo[j], hi[j])(rng);
+    forward_kinematics(model_, c, ws);  // base at the origin: world = base frame
+    double width = 0.0;
+    for (int l = 1; l < kNumLinks; ++l) {
+      const Link& link = model_.links[static_cast<std::size_t>(l)];
+      if (link.shapes.empty()) continue;
+      const Eigen::Vector3d p = ws.T_W_L[static_cast<std::size_t>(l)] * link.bounding_center;
+      width = std::max(width, std::abs(p.y()) + link.bounding_radius_m);
+    }
+    if (width >= best_width) continue;
+    c.base = at;
+    ++rep.collision_checks;
+    if (checker_.check(c)) continue;  // must at least fit where the robot starts
+    best_width = width;
+    best = c.q_rad;
+  }
+  return best;
+}
+
 HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const RobotConfiguration& goal,
                                     double budget_s) {
   const Deadline deadline(budget_s);
@@ -115,13 +147,20 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
     return std::max(dg, drs);
   };
   const bool same_arm = (start.q_rad - goal.q_rad).cwiseAbs().maxCoeff() < 1e-12;
+  const std::optional<JointVector> narrow =
+      s.whole_body_guidance && s.narrow_shape_draws > 0 ? narrow_shape(start.base, rep) : std::nullopt;
   auto arm_blocked = [&](const BasePose& p) {
     if (!s.whole_body_guidance || s.arm_blocked_cost_factor <= 0.0) return false;
     RobotConfiguration c{p, start.q_rad};
     ++rep.collision_checks;
     if (!checker_.check(c)) return false;
-    if (same_arm) return true;
-    c.q_rad = goal.q_rad;
+    if (!same_arm) {
+      c.q_rad = goal.q_rad;
+      ++rep.collision_checks;
+      if (!checker_.check(c)) return false;
+    }
+    if (!narrow) return true;
+    c.q_rad = *narrow;
     ++rep.collision_checks;
     return static_cast<bool>(checker_.check(c));
   };
