@@ -32,6 +32,18 @@
 //           BM_SolveScene forest seeds 1..5 CPU 25.0 (rejected: constraint violation) / 20.1 /
 //           55.6 / 90.1 (budget hit, invalid) / 46.7 ms. The 30 ms median target on forest is
 //           NOT met (forest median over seeds 1-20 with porter-midend-check --resolve: ~60 ms CPU).
+//   screened sampler + residual margin (midend3), load 3.5-4.8, CPU column, medians of 3:
+//           BM_MincoCore 0.37-0.38 us/piece, BM_CostGradNoPenalty 0.40 us/piece,
+//           BM_CostGradFull/10,30,100 1.02 / 1.02 / 1.00 us/piece (was 1.56 / 1.55 / 1.68 in the
+//           same session before the change), BM_SolveForest/0 5.57 ms CPU (was 8.69), same 125
+//           evaluations and T 22.8163 s (the screen changes no result bit). BM_SolveScene with
+//           the current front-end (its paths changed since midend2): forest seeds 1..5 CPU 29.1 /
+//           67.1 (34 segments, rejected: constraint violation) / 68.2 (rejected) / 12.7 / 23.5 ms;
+//           tunnel 8.7 / 13.2 (invalid) / 12.2 / 27.8 / 17.7 ms; bridge 5.4 / 20.0 / 7.4 / 3.0 / 5.4 ms.
+//           Re-solving 18 saved forest paths (porter-midend-check --resolve, 10 s budget, runs
+//           interleaved old/new x3): 194-291 -> 140-220 us per evaluation; median 37-58 ms CPU
+//           depending on machine load; 18/18 pass every check (was 14/18). The 30 ms forest
+//           median is still NOT met at this load.
 
 #include <benchmark/benchmark.h>
 

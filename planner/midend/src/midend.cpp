@@ -91,6 +91,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
     if (!nonneg(w)) return fail("penalty weights must be >= 0");
   }
   if (!pos(s.residual_base_bound_m) || !pos(s.residual_arm_bound_rad)) return fail("residual bounds must be > 0");
+  if (!(s.residual_penalty_fraction > 0.0 && s.residual_penalty_fraction <= 1.0)) {
+    return fail("residual_penalty_fraction not in (0, 1]");
+  }
   if (!nonneg(s.residual_yaw_weight_m2)) return fail("residual_yaw_weight_m2 must be >= 0");
   if (!pos(s.speed_guard_mps) || !pos(s.yaw_gate_speed_mps) || !pos(s.boundary_jerk_guard_mps3)) {
     return fail("singularity guards must be > 0");

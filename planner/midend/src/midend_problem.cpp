@@ -116,6 +116,11 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
     waypoints_[s].resize(kTrajDim, m - 1);
     grad_q_[s].resize(kTrajDim, m - 1);
   }
+  int max_kappa = 1;
+  for (const SegmentLayout& l : segment_layout_) {
+    for (const int kappa : l.kappa) max_kappa = std::max(max_kappa, kappa);
+  }
+  sample_work_.assign(static_cast<std::size_t>(detail::sampler_work_size(max_kappa)), 0.0);
 }
 
 Eigen::VectorXd MidendProblem::initial_guess() const {
@@ -212,7 +217,7 @@ double MidendProblem::piece_penalty(int s, int i, CostBreakdown* breakdown) {
     static_assert(Minco::kStorage == Eigen::RowMajor, "the fast sampler reads row-major blocks");
     const int row = minco::kPieceCoeffs * i;
     return detail::sample_piece(*sampler_, in, minco_[s].coefficients().row(row).data(),
-                                durations_[s][i], segment_layout_[s].kappa[i],
+                                durations_[s][i], segment_layout_[s].kappa[i], sample_work_.data(),
                                 grad_c_[s].row(row).data(), &grad_t_[s][i], breakdown);
   }
   detail::SamplePenalty integrand;

@@ -1,10 +1,12 @@
 #include "piece_sampler.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "porter/midend/diff_drive.hpp"
 #include "porter/midend/midend_problem.hpp"
 #include "nearest_node.hpp"
+#include "sample_screen.hpp"
 
 namespace porter::midend::detail {
 namespace {
@@ -210,41 +212,50 @@ SamplerConstants::SamplerConstants(const MidendLimits& limits, const MidendSetti
   upper_rad = limits.joint_upper_rad;
   inv_qd_max2 = limits.joint_velocity_max_radps.array().square().inverse();
   inv_qdd_max2 = limits.joint_acceleration_max_radps2.array().square().inverse();
-  rho_b2 = st.residual_base_bound_m * st.residual_base_bound_m;
+  const double rho_b = st.residual_penalty_fraction * st.residual_base_bound_m;
+  const double rho_m = st.residual_penalty_fraction * st.residual_arm_bound_rad;
+  rho_b2 = rho_b * rho_b;
   inv_rho_b2 = 1.0 / rho_b2;
-  inv_rho_m2 = 1.0 / (st.residual_arm_bound_rad * st.residual_arm_bound_rad);
+  inv_rho_m2 = 1.0 / (rho_m * rho_m);
   yaw_weight_m2 = st.residual_yaw_weight_m2;
   gate2 = st.yaw_gate_speed_mps * st.yaw_gate_speed_mps;
 }
 
+int sampler_work_size(int max_kappa) { return kWorkRows * (max_kappa + 1); }
+
 double sample_piece(const SamplerConstants& k, const PieceInputs& in, const double* C,
-                    double duration_s, int kappa, double* grad_c, double* grad_t,
+                    double duration_s, int kappa, double* work, double* grad_c, double* grad_t,
                     CostBreakdown* breakdown) {
+  const int n = kappa + 1;
   const double h = duration_s / kappa;
   const bool min_speed = k.min_speed && in.min_speed_mps > 0.0 && !in.base_still;
   const double inv_vmin2 = min_speed ? 1.0 / (in.min_speed_mps * in.min_speed_mps) : 0.0;
   const bool wheels_on = (k.wheel_velocity || k.wheel_acceleration) && !in.base_still;
   const bool joints_on = k.joint_position || k.joint_velocity || k.joint_acceleration;
   const bool residual_on = (k.residual_base && !in.base_still) || k.residual_arm;
+
+  const SampleRows rows = evaluate_samples(C, duration_s, kappa, work);
+  screen_samples(k, in, rows, kappa, min_speed, inv_vmin2, wheels_on, joints_on, residual_on);
+
   double total = 0.0, gt = 0.0;
   CostBreakdown sums;  // integrals of each term over the piece
   int node = 0;        // nearest reference node (piece-local), advanced with j
-  for (int j = 0; j <= kappa; ++j) {
+  for (int j = 0; j < n; ++j) {
+    // Provably zero value and partials (finite samples of moderate size only: the screen's
+    // products must not overflow).
+    if (rows.moderate && rows.screen[j] <= -kScreenSlack) continue;
     const double frac = static_cast<double>(j) / kappa;
-    const double t = frac * duration_s;
+    const double t = rows.t[j];
     Sample s;
     for (int d = 0; d < kDim; ++d) {
-      const double c0 = C[d], c1 = C[kDim + d], c2 = C[2 * kDim + d], c3 = C[3 * kDim + d],
-                   c4 = C[4 * kDim + d], c5 = C[5 * kDim + d];
-      s.pos[d] = c0 + t * (c1 + t * (c2 + t * (c3 + t * (c4 + t * c5))));
-      s.vel[d] = c1 + t * (2.0 * c2 + t * (3.0 * c3 + t * (4.0 * c4 + t * 5.0 * c5)));
-      s.acc[d] = 2.0 * c2 + t * (6.0 * c3 + t * (12.0 * c4 + t * 20.0 * c5));
+      s.pos[d] = rows.pos[d * n + j];
+      s.vel[d] = rows.vel[d * n + j];
+      s.acc[d] = rows.acc[d * n + j];
       s.gp[d] = s.gv[d] = s.ga[d] = 0.0;
     }
     for (int d = 0; d < 2; ++d) {
-      const double c3 = C[3 * kDim + d], c4 = C[4 * kDim + d], c5 = C[5 * kDim + d];
-      s.jerk_xy[d] = 6.0 * c3 + t * (24.0 * c4 + t * 60.0 * c5);
-      s.snap_xy[d] = 24.0 * c4 + t * 120.0 * c5;
+      s.jerk_xy[d] = rows.jerk_xy[d * n + j];
+      s.snap_xy[d] = 24.0 * C[4 * kDim + d] + t * 120.0 * C[5 * kDim + d];
       s.gj[d] = 0.0;
     }
     CostBreakdown g;  // this sample's integrand, by term

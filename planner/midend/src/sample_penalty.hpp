@@ -148,7 +148,8 @@ struct SamplePenalty {
       const double gate = v2 / (v2 + gate2);
       const Eigen::Vector2d dgate_dv = (2.0 * gate2 / ((v2 + gate2) * (v2 + gate2))) * v;
       const double wphi = settings->residual_yaw_weight_m2;
-      const double rho2 = settings->residual_base_bound_m * settings->residual_base_bound_m;
+      const double rho = settings->residual_penalty_fraction * settings->residual_base_bound_m;
+      const double rho2 = rho * rho;
       const double e = dp.squaredNorm() + wphi * gate * dyaw * dyaw;
       double dpen = 0.0;
       const double w = share * settings->weight_residual_base;
@@ -161,7 +162,8 @@ struct SamplePenalty {
     }
     if ((terms & kTermResidualArm) && settings->weight_residual_arm > 0.0) {
       const JointVector dq = s.pos.tail<kNumArmJoints>() - node.q_rad;
-      const double rho2 = settings->residual_arm_bound_rad * settings->residual_arm_bound_rad;
+      const double rho = settings->residual_penalty_fraction * settings->residual_arm_bound_rad;
+      const double rho2 = rho * rho;
       double dpen = 0.0;
       const double w = share * settings->weight_residual_arm;
       g.residual_arm += w * penalty.value(dq.squaredNorm() / rho2 - 1.0, &dpen);

@@ -180,3 +180,69 @@ TEST(MidendExtraCost, NonFiniteExtraCostRejectsThePoint) {
 
 }  // namespace
 }  // namespace porter::midend
+
+namespace porter::midend {
+namespace {
+
+// MidendSettings::residual_penalty_fraction: the residual penalties start at f * rho. Every
+// interior arm waypoint of a straight line is offset by 0.6 rho_m on q1: no residual cost with
+// f = 1, a positive one with f = 0.5 (both samplers, same value).
+TEST(PieceSampler, ResidualPenaltyStartsAtTheFractionOfRho) {
+  const MidendLimits limits = MidendLimits::from_robot(testing::scout_mini_piper_model());
+  double cost[2][2] = {};  // [f = 1, f = 0.5][fast, reference]
+  for (int k = 0; k < 2; ++k) {
+    MidendSettings settings;
+    settings.residual_penalty_fraction = k == 0 ? 1.0 : 0.5;
+    settings.max_edges_per_piece = 1;
+    const ReferenceBuild ref = build_reference_path(testing::straight_line(12), limits, settings);
+    ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+    MidendProblem problem(ref.path, limits, settings);
+    ASSERT_EQ(problem.num_segments(), 1);
+    problem.set_terms(kTermResidualArm);
+    Eigen::VectorXd x = problem.initial_guess();
+    for (int i = 0; i + 1 < problem.num_pieces(); ++i) x[kTrajDim * i + 2] += 0.6 * settings.residual_arm_bound_rad;
+    for (int r = 0; r < 2; ++r) {
+      problem.set_reference_sampling(r == 1);
+      CostBreakdown b;
+      Eigen::VectorXd g(problem.num_variables());
+      problem.evaluate(x, &g, &b);
+      cost[k][r] = b.residual_arm;
+    }
+  }
+  EXPECT_EQ(cost[0][0], 0.0);
+  EXPECT_EQ(cost[0][1], 0.0);
+  EXPECT_GT(cost[1][0], 0.0);
+  EXPECT_NEAR(cost[1][0], cost[1][1], 1e-12 * cost[1][1]);
+}
+
+}  // namespace
+}  // namespace porter::midend
+
+namespace porter::midend {
+namespace {
+
+// Pieces whose values are too large for the screen's products (SampleRows::moderate is false:
+// here every duration is scaled by e^60 through the global time scale, the last variable) take
+// the exact path at every sample; fast and reference still agree.
+TEST(PieceSampler, MatchesReferenceWhenTheScreenStandsDown) {
+  const MidendLimits limits = tight_limits();
+  const ReferenceBuild ref = build_reference_path(testing::three_point_turn(), limits, MidendSettings{});
+  ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+  MidendProblem problem(ref.path, limits, MidendSettings{});
+  Eigen::VectorXd x = problem.initial_guess();
+  x[problem.num_variables() - 1] = 60.0;
+  const int n = problem.num_variables();
+  Eigen::VectorXd g_fast(n), g_ref(n);
+  CostBreakdown b_fast, b_ref;
+  problem.set_terms(kTermAll & ~(kTermEnergy | kTermTime));
+  const double f_fast = problem.evaluate(x, &g_fast, &b_fast);
+  problem.set_reference_sampling(true);
+  const double f_ref = problem.evaluate(x, &g_ref, &b_ref);
+  ASSERT_TRUE(std::isfinite(f_ref));
+  ASSERT_GT(b_ref.residual_base + b_ref.residual_arm, 0.0);  // slow motion: the residuals bite
+  EXPECT_NEAR(f_fast, f_ref, 1e-12 * std::max(1.0, std::abs(f_ref)));
+  EXPECT_LE((g_fast - g_ref).norm(), 1e-10 * std::max(1.0, g_ref.norm()));
+}
+
+}  // namespace
+}  // namespace porter::midend

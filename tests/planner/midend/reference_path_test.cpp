@@ -183,7 +183,9 @@ TEST(ReferencePath, GroupsEdgesIntoPiecesWithinTheCaps) {
       EXPECT_EQ(seg.edges_in_piece(0), 1);
       EXPECT_EQ(seg.intervals.front(), s.samples_per_piece * s.gear_sample_factor);
     }
-    if (si + 1 < num_segments) EXPECT_EQ(seg.edges_in_piece(seg.num_pieces() - 1), 1);
+    if (si + 1 < num_segments) {
+      EXPECT_EQ(seg.edges_in_piece(seg.num_pieces() - 1), 1);
+    }
   }
 }
 

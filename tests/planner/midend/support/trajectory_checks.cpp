@@ -198,8 +198,16 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
         best_b = std::min(best_b, eb);
         best_m = std::min(best_m, (st.z.tail<6>() - node->q_rad).squaredNorm());
       }
-      r.residual_base_ratio = std::max(r.residual_base_ratio, std::sqrt(best_b / rho_b2));
-      r.residual_arm_ratio = std::max(r.residual_arm_ratio, std::sqrt(best_m) / settings.residual_arm_bound_rad);
+      const double ratio_b = std::sqrt(best_b / rho_b2);
+      const double ratio_m = std::sqrt(best_m) / settings.residual_arm_bound_rad;
+      if (ratio_b > r.residual_base_ratio) {
+        r.residual_base_ratio = ratio_b;
+        r.residual_base_worst_t_s = t;
+      }
+      if (ratio_m > r.residual_arm_ratio) {
+        r.residual_arm_ratio = ratio_m;
+        r.residual_arm_worst_t_s = t;
+      }
     }
   }
   return r;

@@ -40,6 +40,8 @@ struct CheckReport {
   double joint_position_excess = 0.0;  ///< max violation of [lower, upper] / (upper - lower)
   double residual_base_ratio = 0.0;    ///< max sqrt(e_b + rho_b^2) / rho_b (<= 1 is inside)
   double residual_arm_ratio = 0.0;
+  double residual_base_worst_t_s = 0.0;  ///< where residual_base_ratio / residual_arm_ratio occur
+  double residual_arm_worst_t_s = 0.0;
   double start_heading_error_rad = 0.0;  ///< |yaw(0+) - start node yaw|
   double goal_heading_error_rad = 0.0;
   int samples = 0;

@@ -46,6 +46,8 @@ json report_json(const testing::CheckReport& k) {
               {"joint_position_excess", k.joint_position_excess},
               {"residual_base_ratio", k.residual_base_ratio},
               {"residual_arm_ratio", k.residual_arm_ratio},
+              {"residual_base_worst_t_s", k.residual_base_worst_t_s},
+              {"residual_arm_worst_t_s", k.residual_arm_worst_t_s},
               {"reversals", k.reversals},
               {"boundary_error", k.boundary_error},
               {"continuity_error", k.continuity_error},
@@ -67,7 +69,9 @@ bool set_field(MidendSettings& s, const std::string& kv) {
       {"weight_residual_base", &s.weight_residual_base}, {"weight_residual_arm", &s.weight_residual_arm},
       {"still_max_base_m", &s.still_max_base_m}, {"restart_min_decrease", &s.restart_min_decrease},
       {"penalty_smoothing", &s.penalty_smoothing}, {"densify_factor", &s.densify_factor},
-      {"piece_duration_ratio", &s.piece_duration_ratio}};
+      {"piece_duration_ratio", &s.piece_duration_ratio},
+      {"residual_penalty_fraction", &s.residual_penalty_fraction},
+      {"yaw_gate_speed_mps", &s.yaw_gate_speed_mps}, {"weight_min_speed", &s.weight_min_speed}};
   for (const auto& d : doubles) {
     if (key == d.first) return *d.second = v, true;
   }

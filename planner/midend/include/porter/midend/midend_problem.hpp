@@ -199,6 +199,7 @@ class MidendProblem {
   std::vector<Eigen::VectorXd> grad_t_;
   std::vector<Minco::Waypoints> waypoints_, grad_q_;
   Eigen::VectorXd grad_t_total_;
+  std::vector<double> sample_work_;  ///< the fast sampler's rows (piece_sampler.hpp)
 };
 
 }  // namespace porter::midend
