@@ -19,6 +19,8 @@ bool validate_settings(const WholeBodyRrtSettings& s, std::string* why) {
   if (!(s.max_extend_m > 0.0)) return bad("max_extend_m");
   if (!(s.max_extend_q_rad > 0.0)) return bad("max_extend_q_rad");
   if (!(s.joint_cost_weight_m_per_rad >= 0.0)) return bad("joint_cost_weight_m_per_rad");
+  if (!(s.reverse_cost_factor >= 1.0)) return bad("reverse_cost_factor");
+  if (!(s.gear_switch_cost_m >= 0.0)) return bad("gear_switch_cost_m");
   if (!(s.goal_bias >= 0.0 && s.goal_bias <= 1.0)) return bad("goal_bias");
   if (!(s.sampling_margin_m >= 0.0)) return bad("sampling_margin_m");
   if (s.neighbours < 1) return bad("neighbours");
@@ -43,8 +45,21 @@ struct WbNode {
   RobotConfiguration c;
   int parent = -1;
   double cost = 0.0;
+  int eta_in = 0;  // driving direction at the end of the edge from the parent (0: root)
   std::vector<int> children;
 };
+
+/// First and last driving direction along a Reeds–Shepp curve (0 when it has no length).
+std::pair<int, int> end_directions(const RsPath& path) {
+  int first = 0, last = 0;
+  for (int i = 0; i < path.num_segments; ++i) {
+    const double len = path.segments[static_cast<std::size_t>(i)].length_m;
+    if (len == 0.0) continue;
+    last = len > 0.0 ? 1 : -1;
+    if (first == 0) first = last;
+  }
+  return {first, last};
+}
 
 class WbSearch {
  public:
@@ -85,8 +100,26 @@ class WbSearch {
     out->back().config = b;  // exact end
   }
 
-  double edge_cost(const RobotConfiguration& a, const RobotConfiguration& b) {
-    return rs_.distance(a.base, b.base) + s_.joint_cost_weight_m_per_rad * (b.q_rad - a.q_rad).norm();
+  /// Cost of the edge from node `from` to b, including a gear switch where it starts against the
+  /// direction `from` was reached in. (A rewired node's children keep the junction cost they were
+  /// added with: RRT*'s usual approximation for direction-dependent costs.)
+  double edge_cost(const WbNode& from, const RobotConfiguration& b) {
+    const RsPath path = rs_.shortest(from.c.base, b.base);
+    const int first = end_directions(path).first;
+    const double junction = from.eta_in != 0 && first != 0 && first != from.eta_in ? s_.gear_switch_cost_m : 0.0;
+    return junction + path_cost(path) + s_.joint_cost_weight_m_per_rad * (b.q_rad - from.c.q_rad).norm();
+  }
+
+  /// Reverse driving and direction changes cost extra: each gear switch becomes a segment joint
+  /// of the mid-end, and a path of many is slow and fragile.
+  double path_cost(const RsPath& path) const {
+    if (!std::isfinite(path.length_m)) return path.length_m;
+    double cost = s_.gear_switch_cost_m * path.cusps();
+    for (int i = 0; i < path.num_segments; ++i) {
+      const double len = path.segments[static_cast<std::size_t>(i)].length_m;
+      cost += len >= 0.0 ? len : -s_.reverse_cost_factor * len;
+    }
+    return cost;
   }
 
   bool node_free(const RobotConfiguration& c) {
@@ -157,13 +190,23 @@ class WbSearch {
     return sample_uniform();
   }
 
-  void reparent(int child, int new_parent, double new_cost) { reparent_subtree(nodes_, child, new_parent, new_cost); }
+  int arrival_direction(int parent, const RobotConfiguration& c) {
+    if (parent < 0) return 0;
+    const int last = end_directions(rs_.shortest(nodes_[static_cast<std::size_t>(parent)].c.base, c.base)).second;
+    return last != 0 ? last : nodes_[static_cast<std::size_t>(parent)].eta_in;
+  }
+
+  void reparent(int child, int new_parent, double new_cost) {
+    reparent_subtree(nodes_, child, new_parent, new_cost);
+    nodes_[static_cast<std::size_t>(child)].eta_in = arrival_direction(new_parent, nodes_[static_cast<std::size_t>(child)].c);
+  }
 
   int add_node(const RobotConfiguration& c, int parent, double cost) {
     WbNode n;
     n.c = c;
     n.parent = parent;
     n.cost = cost;
+    n.eta_in = arrival_direction(parent, c);
     nodes_.push_back(std::move(n));
     const int id = static_cast<int>(nodes_.size()) - 1;
     if (parent >= 0) nodes_[static_cast<std::size_t>(parent)].children.push_back(id);
@@ -179,7 +222,7 @@ class WbSearch {
     auto try_goal = [&](int from) {
       const RobotConfiguration& c = nodes_[static_cast<std::size_t>(from)].c;
       if (std::hypot(goal.base.x_m - c.base.x_m, goal.base.y_m - c.base.y_m) > 2.0 * s_.max_extend_m) return;
-      const double cost = nodes_[static_cast<std::size_t>(from)].cost + edge_cost(c, goal);
+      const double cost = nodes_[static_cast<std::size_t>(from)].cost + edge_cost(nodes_[static_cast<std::size_t>(from)], goal);
       if (goal_id >= 0 && cost >= nodes_[static_cast<std::size_t>(goal_id)].cost - 1e-9) return;
       if (!edge_free(c, goal)) return;
       if (goal_id < 0) goal_id = add_node(goal, from, cost);
@@ -233,7 +276,7 @@ class WbSearch {
       near.resize(kn);
       std::vector<std::pair<double, int>> parents;
       for (const auto& [d, id] : near)
-        parents.push_back({nodes_[static_cast<std::size_t>(id)].cost + edge_cost(nodes_[static_cast<std::size_t>(id)].c, c_new), id});
+        parents.push_back({nodes_[static_cast<std::size_t>(id)].cost + edge_cost(nodes_[static_cast<std::size_t>(id)], c_new), id});
       std::sort(parents.begin(), parents.end());
       int parent = -1;
       double cost = 0.0;
@@ -248,7 +291,7 @@ class WbSearch {
       const int id_new = add_node(c_new, parent, cost);
       for (const auto& [d, id] : near) {
         if (id == parent) continue;
-        const double c = cost + edge_cost(c_new, nodes_[static_cast<std::size_t>(id)].c);
+        const double c = cost + edge_cost(nodes_[static_cast<std::size_t>(id_new)], nodes_[static_cast<std::size_t>(id)].c);
         if (c < nodes_[static_cast<std::size_t>(id)].cost - 1e-9 && edge_free(c_new, nodes_[static_cast<std::size_t>(id)].c))
           reparent(id, id_new, c);
       }

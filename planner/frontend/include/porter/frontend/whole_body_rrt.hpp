@@ -7,7 +7,9 @@
 // per extension). An edge is sampled so that consecutive samples are at most edge_step_m
 // apart along the curve and edge_q_step_rad apart in every joint (every cusp is a sample); it
 // is valid when CollisionChecker::check_motion holds between all consecutive samples, which
-// are exactly the nodes the path reports. Cost: Reeds–Shepp length + joint_cost_weight * |dq|.
+// are exactly the nodes the path reports. Cost: Reeds–Shepp length with reverse stretches
+// weighted by reverse_cost_factor, plus gear_switch_cost_m per cusp, + joint_cost_weight * |dq|
+// (as in Hybrid A*: every gear switch is a segment joint of the mid-end).
 // RRT*: the new node takes the cheapest valid parent among its `neighbours` nearest nodes and
 // rewires them. Sampling: uniform over the start/goal box grown by sampling_margin_m (clipped
 // to the map) and the joint limits until a solution exists, then informed: uniform in the
@@ -34,6 +36,10 @@ struct WholeBodyRrtSettings {
   double max_extend_m = 0.8;
   /// Largest joint change of one extension, rad (> 0).
   double max_extend_q_rad = 1.0;
+  /// Multiplier on reverse arc length in the cost (>= 1).
+  double reverse_cost_factor = 2.0;
+  /// Cost of one direction change inside an edge, m-equivalent (>= 0).
+  double gear_switch_cost_m = 1.0;
   /// Weight of the joint motion in the cost, m per rad (>= 0).
   double joint_cost_weight_m_per_rad = 0.2;
   /// Probability of sampling the goal [0, 1].
