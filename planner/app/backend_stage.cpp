@@ -1,12 +1,15 @@
 #include "backend_stage.hpp"
 
+#include <array>
 #include <chrono>
 #include <memory>
 #include <optional>
 
 #include "porter/backend/backend.hpp"
+#include "porter/backend/recheck_margins.hpp"
 #include "porter/backend/robot_sdf.hpp"
 #include "porter/baselines/safety_models.hpp"
+#include "porter/planner/collision/kernel_collision_checker.hpp"
 
 namespace porter::app {
 
@@ -28,7 +31,16 @@ BackendRun run_backend(const PlanArgs& args, const RobotModel& model, const Occu
   std::optional<backend::RobotSdf> sdf;
   if (model_kind != baselines::SafetyModel::kSpheres) sdf = backend::RobotSdf::build(model);
   run.setup_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  std::unique_ptr<backend::SafetyTerm> term = baselines::make_safety_term(model_kind, model, sdf ? &*sdf : nullptr);
+  // s_thr per link from the re-check's inflation (recheck_margins.hpp): a trajectory with a zero
+  // penalty then passes the kernel check.
+  baselines::SafetyTermSettings term_settings;
+  if (const auto* kernels = dynamic_cast<const planner::KernelCollisionChecker*>(&recheck); kernels && sdf) {
+    std::array<double, kNumLinks> inflation{};
+    for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = kernels->kernels().inflation_bound_m(j);
+    backend::apply_recheck_margins(backend::recheck_margins(inflation, grid_W.resolution_m(), *sdf), term_settings.svsdf);
+  }
+  std::unique_ptr<backend::SafetyTerm> term =
+      baselines::make_safety_term(model_kind, model, sdf ? &*sdf : nullptr, term_settings);
 
   backend::BackendSettings settings;
   settings.problem = midend_settings;

@@ -12,24 +12,26 @@
 // kernel checker runs without self-collision (the shipped arm's links 3 and 5 overlap at q4 = 0
 // and the model does not allow the pair yet: every scene start would be rejected).
 //
-// Recorded (build-backend, Release, 2-core AMD EPYC shared with other builds, load ~3):
-//   $ porter-bench-backend queries
-//   kc_svsdf        KC-SVSDF all 8 links: outside  6100 pts  28.0 us/pt (t* search 98.5%) | inside 34 pts 78.6 us/pt (t* search 93.8%)
-//   SVSDF g_j alone: base full search 3.8 us/pt, payload windowed search 4.0 us/pt
-//   svsdf_per_link  KC-SVSDF all 8 links: outside  6100 pts  28.4 us/pt (t* search 98.5%) | inside 34 pts 72.1 us/pt (t* search 92.6%)
-//   J_s evaluation (cost + gradient): 12.70 ms wall, 1036 of 6134 points past the AABB prefilter
-//   $ porter-bench-backend scenes 5
-//   bridge  paths 5/5 | back-end median 316 ms, mean iterations 9.2, collision-free 2/5
-//   tunnel  paths 5/5 | back-end median 529 ms, mean iterations 0.0, collision-free 0/5
-//   forest  paths 5/5 | back-end median 920 ms, mean iterations 0.0, collision-free 0/5
-//   $ porter-bench-backend ablation 20     (paper: kc 100/100/95/80 %, per-link 80/35/20/0 %)
-//   h_b 1.1: front-end 15/20, direct 1, kc_svsdf 1/20, svsdf_per_link 1/20
-//   h_b 1.0: front-end  7/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
-//   h_b 0.9: front-end  0/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
-//   h_b 0.8: front-end  1/20, direct 0, kc_svsdf 0/20, svsdf_per_link 0/20
-//   $ porter-bench-backend synthetic 20
-//   h_b 1.1: 19 colliding warm starts, kc_svsdf 9/19, svsdf_per_link 9/19 (median 306 / 304 ms)
-//   h_b 1.0: 20, kc 10/20, per-link 10/20;  h_b 0.9: 20, 10/20, 10/20;  h_b 0.8: 20, 1/20, 1/20
+//   porter-bench-backend profile N SCENE H_B FE_BUDGET_S FIRST_SEED REPS
+//                                           per seed: obstacle points, one J_s evaluation (averaged
+//                                           over REPS) with its work counters, then a 300 ms solve
+//
+// Recorded on HEAD 5e7716a + the issue-6 back-end speed-up (Release, 2-core VM shared with other builds,
+// load average ~4: wall times are ~2x noisy). s_j from the kernel inflation (recheck_margins.hpp).
+//   $ porter-bench-backend queries     (all 30640 map points, most far from the robot)
+//   kc_svsdf        KC-SVSDF all 8 links: outside 30634 pts 71.4 us/pt (t* search 99.2%) | inside 6 pts 73.4 us/pt (t* search 96.4%)
+//   SVSDF g_j alone: base full search 9.2 us/pt, payload windowed search 10.3 us/pt
+//   svsdf_per_link  KC-SVSDF all 8 links: outside 30634 pts 68.7 us/pt (t* search 98.8%) | inside 6 pts 78.6 us/pt (t* search 94.1%)
+//   J_s evaluation (cost + gradient): 5.70 ms wall, 666 of 30640 points past the AABB prefilter
+//   $ porter-bench-backend profile 4 bridge 1.1 0.08 1 1     (J_s evaluation; was 37-43 ms)
+//   seed 1: 616 candidates, eval 7.1 ms | back-end 62 ms, 2 iterations, re-check passed
+//   seed 2: 618 candidates, eval 7.8 ms | back-end 211 ms, 12 iterations, re-check passed
+//   seed 4: 738 candidates, eval 9.4 ms | back-end 112 ms, 6 iterations, re-check passed
+//   $ porter-bench-backend profile 2 tunnel -1 1.0 1 1       (was 219-314 ms per evaluation)
+//   seed 1 (T 38.8 s): eval 53.7 ms | seed 2 (T 97.9 s): eval 73.7 ms; 300 ms solves: 0-1 iterations
+//   $ porter-bench-backend profile 2 forest -1 1.0 1 1
+//   seed 2 (T 123.8 s): eval 96.8 ms; 300 ms solve: 0 iterations (first line search)
+// The ablation is recorded with scripts/bench-ablation (porter-plan end to end), see README.
 
 #include <algorithm>
 #include <chrono>
@@ -43,6 +45,7 @@
 #include "backend_fixtures.hpp"
 #include "porter/backend/backend.hpp"
 #include "porter/backend/kc_svsdf.hpp"
+#include "porter/backend/recheck_margins.hpp"
 #include "porter/baselines/safety_models.hpp"
 #include "porter/core/payload.hpp"
 #include "porter/core/payload_loader.hpp"
@@ -195,8 +198,17 @@ WarmStart warm_start(Setup& s, frontend::FrontEnd& fe, std::uint64_t seed, doubl
   return w;
 }
 
+/// The safety term settings porter-plan uses: s_j from the kernel checker's inflation bounds.
+baselines::SafetyTermSettings term_settings(const Setup& s) {
+  baselines::SafetyTermSettings ts;
+  std::array<double, kNumLinks> inflation{};
+  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = s.checker->kernels().inflation_bound_m(j);
+  backend::apply_recheck_margins(backend::recheck_margins(inflation, s.grid.resolution_m(), *s.sdf), ts.svsdf);
+  return ts;
+}
+
 backend::BackendResult run_backend(Setup& s, const WarmStart& w, baselines::SafetyModel model, double budget) {
-  auto term = baselines::make_safety_term(model, s.model, s.sdf.get());
+  auto term = baselines::make_safety_term(model, s.model, s.sdf.get(), term_settings(s));
   backend::BackendSettings bs;
   const backend::BackEnd be(s.model, bs);
   return be.solve(w.path, *w.trajectory, s.grid, *term, budget, s.checker.get());
@@ -296,6 +308,47 @@ void bench_synthetic(int seeds) {
   }
 }
 
+
+void bench_profile(const std::string& name, double h_b, int first_seed, int seeds, double fe_budget, int reps) {
+  auto s = load(name, h_b);
+  frontend::FrontEnd fe(s->model, *s->checker);
+  fe.set_map(s->grid);
+  for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
+    const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), fe_budget, 0.3);
+    if (!w.ok) {
+      std::printf("seed %d: %s\n", seed, w.note.c_str());
+      continue;
+    }
+    backend::SvsdfSafetyTerm term(s->model, *s->sdf, term_settings(*s).svsdf);
+    auto t0 = Clock::now();
+    term.prepare(s->grid, *w.trajectory);
+    const double prep = since(t0);
+    backend::TrajectoryGradient grad;
+    grad.reset(w.trajectory->num_pieces());
+    backend::SafetyStats st;
+    term.reset_stats();
+    t0 = Clock::now();
+    for (int k = 0; k < reps; ++k) term.evaluate(*w.trajectory, grad, &st);
+    const double ev = since(t0) / reps;
+    const backend::SvsdfStats sv = term.svsdf_stats();
+    const backend::KcSvsdfStats kc = term.kc_stats();
+    std::printf("seed %d: %d pieces T %.1f s, direct %d | prepare %.1f ms, %d points | eval %.1f ms: %d candidates, %d link queries, %d viol, %d inside | searches %lld, samples %lld/%lld, exact %lld, skipped %lld | ball it %lld samples %lld\n",
+                seed, w.trajectory->num_pieces(), w.trajectory->total_duration_s(), w.collision_free, 1e3 * prep,
+                st.obstacle_points, 1e3 * ev, st.candidate_points, st.link_queries, st.violations, st.inside,
+                (long long)sv.searches, (long long)sv.samples_evaluated, (long long)sv.samples_in_range,
+                (long long)sv.exact_evaluations, (long long)sv.skipped, (long long)kc.ball_iterations,
+                (long long)kc.ball_samples);
+    std::fflush(stdout);
+    if (w.collision_free) continue;
+    const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
+    std::printf("   back-end: %s %.0f ms, iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
+                backend::to_string(r.status), 1e3 * r.elapsed_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
+                r.rechecks, 1e3 * r.recheck_s, r.rounds, r.initial_cost.safety, r.final_cost.safety,
+                backend::to_string(r.check), r.collision_link, r.message.c_str());
+    std::fflush(stdout);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -305,5 +358,13 @@ int main(int argc, char** argv) {
   if (section == "scenes" || section == "all") bench_scenes(seeds);
   if (section == "ablation" || section == "all") bench_ablation(seeds);
   if (section == "synthetic" || section == "all") bench_synthetic(seeds);
+  if (section == "profile") {
+    const std::string scene = argc > 3 ? argv[3] : "bridge";
+    const double h_b = argc > 4 ? std::atof(argv[4]) : -1.0;
+    const double fe_budget = argc > 5 ? std::atof(argv[5]) : 0.08;
+    const int first = argc > 6 ? std::atoi(argv[6]) : 1;
+    const int reps = argc > 7 ? std::atoi(argv[7]) : 1;
+    bench_profile(scene, h_b, first, seeds, fe_budget, reps);
+  }
   return 0;
 }

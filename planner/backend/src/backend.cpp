@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "porter/midend/lbfgs_codes.hpp"
@@ -42,6 +43,13 @@ struct SolveContext {
   double best_f = std::numeric_limits<double>::infinity();
   BackendCost best;             ///< at the lowest cost evaluated (the returned iterate's, usually)
   BackendCost cost;
+  // In-loop kernel re-check (BackendSettings::recheck_every_iterations).
+  const planner::CollisionChecker* checker = nullptr;
+  int recheck_every = 0;
+  int round_iterations = 0;     ///< iterations of the current L-BFGS round
+  int rechecks = 0;
+  double check_s = 0.0;
+  bool found_free = false;      ///< an accepted iterate passed the re-check: stopped there
 };
 
 /// What an evaluation reports once the budget is gone: the line search cannot accept a step, so
@@ -76,12 +84,25 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
   return f;
 }
 
-int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatval_t* /*g*/,
+int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t* /*g*/,
                 const lbfgsfloatval_t /*fx*/, const lbfgsfloatval_t /*xnorm*/,
-                const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int /*n*/, int k,
+                const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int n, int k,
                 int /*ls*/) {
   auto* ctx = static_cast<SolveContext*>(instance);
-  ctx->iterations = k;
+  ctx->round_iterations = k;
+  // The re-check at a low rate: stop at the first accepted iterate the kernel check passes.
+  if (ctx->checker && ctx->recheck_every > 0 && k % ctx->recheck_every == 0) {
+    const auto t0 = Clock::now();
+    for (int i = 0; i < n; ++i) ctx->x[i] = ctx->scale * y[i];
+    const std::optional<Trajectory> traj = ctx->problem->trajectory(ctx->x.data());
+    ++ctx->rechecks;
+    const bool free = traj && !ctx->checker->check_trajectory(*traj).in_collision;
+    ctx->check_s += seconds_since(t0);
+    if (free) {
+      ctx->found_free = true;
+      return 1;
+    }
+  }
   // The last evaluation of an iteration is the accepted point's.
   ctx->safe_streak = ctx->last_safety == 0.0 ? ctx->safe_streak + 1 : 0;
   if (ctx->stop_after_safe > 0 && ctx->safe_streak >= ctx->stop_after_safe) {
@@ -125,6 +146,9 @@ bool validate_settings(const BackendSettings& s, std::string* why) {
   if (!(s.default_time_budget_s > 0.0) || !std::isfinite(s.default_time_budget_s)) return fail("default_time_budget_s must be > 0");
   if (s.stop_after_safe_iterations < 0) return fail("stop_after_safe_iterations must be >= 0");
   if (!(s.variable_scale > 0.0) || !std::isfinite(s.variable_scale)) return fail("variable_scale must be > 0");
+  if (s.recheck_every_iterations < 0) return fail("recheck_every_iterations must be >= 0");
+  if (!(s.weight_escalation_factor >= 1.0) || !std::isfinite(s.weight_escalation_factor)) return fail("weight_escalation_factor must be >= 1");
+  if (s.max_weight_escalations < 0) return fail("max_weight_escalations must be >= 0");
   return true;
 }
 
@@ -189,14 +213,50 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   ctx.start = start;
   ctx.budget_s = budget_s;
   ctx.stop_after_safe = settings_.stop_after_safe_iterations;
+  ctx.checker = checker;
+  ctx.recheck_every = settings_.recheck_every_iterations;
   const auto t_opt = Clock::now();
   lbfgsfloatval_t fx = 0.0;
-  const int code = lbfgs(n, x.data, &fx, evaluate_cb, progress_cb, &ctx, &param);
+  int code = LBFGS_SUCCESS;
+  // Rounds: L-BFGS from the current iterate; when it stops short of the budget with the re-check
+  // still failing, the safety weight is raised and it continues (see BackendSettings).
+  double weight_scale = 1.0;
+  int rounds = 0;
+  for (;;) {
+    problem.set_safety_scale(weight_scale);
+    ctx.best_f = std::numeric_limits<double>::infinity();
+    ctx.round_iterations = 0;
+    param.max_iterations = settings_.max_iterations - ctx.iterations;  // the cap is over all rounds
+    code = lbfgs(n, x.data, &fx, evaluate_cb, progress_cb, &ctx, &param);
+    ctx.iterations += ctx.round_iterations;
+    ++rounds;
+    if (ctx.found_free || ctx.stopped_safe || ctx.budget_hit || ctx.expired || !checker) break;
+    if (rounds > settings_.max_weight_escalations || !std::isfinite(fx)) break;
+    if (seconds_since(start) >= budget_s || ctx.iterations >= settings_.max_iterations) break;
+    const bool stopped = code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
+                         code == LBFGSERR_MAXIMUMITERATION || midend::lbfgs_code_is_stall(code);
+    if (!stopped) break;
+    for (int k = 0; k < n; ++k) ctx.x[k] = scale * x.data[k];
+    const auto t_check = Clock::now();
+    const std::optional<Trajectory> traj = problem.trajectory(ctx.x.data());
+    ++ctx.rechecks;
+    const bool free = traj && !checker->check_trajectory(*traj).in_collision;
+    ctx.check_s += seconds_since(t_check);
+    if (free) {
+      ctx.found_free = true;
+      break;
+    }
+    weight_scale *= settings_.weight_escalation_factor;
+  }
   r.optimize_s = seconds_since(t_opt);
   r.lbfgs_code = code;
   r.iterations = ctx.iterations;
   r.evaluations = ctx.evaluations;
   r.safety_s = ctx.safety_s;
+  r.rechecks = ctx.rechecks;
+  r.recheck_s = ctx.check_s;
+  r.rounds = rounds;
+  r.safety_weight_scale = weight_scale;
   r.initial_cost = ctx.initial;
   const double f0 = ctx.initial.total();
   if (!ctx.have_initial || !std::isfinite(f0)) {
@@ -221,18 +281,23 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     r.status = BackendStatus::kNumericalFailure;
     r.message = detail + "; final cost is not finite";
   } else if (code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
-             (code == LBFGSERR_CANCELED && ctx.stopped_safe)) {
+             (code == LBFGSERR_CANCELED && (ctx.stopped_safe || ctx.found_free))) {
     r.status = BackendStatus::kConverged;
   } else if ((code == LBFGSERR_CANCELED && ctx.budget_hit) || ctx.expired) {
     r.status = BackendStatus::kTimeBudgetExceeded;
   } else if (code == LBFGSERR_MAXIMUMITERATION) {
     r.status = BackendStatus::kIterationLimit;
-  } else if (midend::lbfgs_code_is_stall(code) && f1 < f0) {
+  } else if (midend::lbfgs_code_is_stall(code) && (f1 < f0 || rounds > 1)) {
     r.status = BackendStatus::kConvergedWithWarning;
   } else {
     r.status = BackendStatus::kOptimizerFailed;
   }
-  if (r.message.empty()) r.message = ctx.stopped_safe ? detail + " (collision term zero: stopped early)" : detail;
+  if (r.message.empty()) {
+    r.message = detail;
+    if (ctx.stopped_safe) r.message += " (collision term zero: stopped early)";
+    if (ctx.found_free) r.message += " (kernel re-check passed: stopped there)";
+    if (rounds > 1) r.message += "; safety weight x" + std::to_string(static_cast<int>(weight_scale));
+  }
   if (has_trajectory(r.status)) {
     std::optional<Trajectory> traj = problem.trajectory(x1.data());
     if (traj) {

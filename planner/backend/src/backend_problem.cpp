@@ -19,15 +19,15 @@ BackendProblem::BackendProblem(midend::ReferencePath reference, const midend::Mi
 double BackendProblem::safety_cost(const Trajectory& traj, midend::ExtraCostGradient* grad) {
   const int n = traj.num_pieces();
   tgrad_.reset(n);
-  const double js = safety_->evaluate(traj, tgrad_, &stats_);
+  const double js = safety_scale_ * safety_->evaluate(traj, tgrad_, &stats_);
   if (!std::isfinite(js)) return std::numeric_limits<double>::infinity();
   if (grad) {
     if (static_cast<int>(grad->coeffs.size()) != n || static_cast<int>(grad->durations_s.size()) != n)
       return std::numeric_limits<double>::infinity();
     for (int i = 0; i < n; ++i) {
       const auto k = static_cast<std::size_t>(i);
-      grad->coeffs[k] += tgrad_.coeffs(i);
-      grad->durations_s[k] += tgrad_.duration(i);
+      grad->coeffs[k] += safety_scale_ * tgrad_.coeffs(i);
+      grad->durations_s[k] += safety_scale_ * tgrad_.duration(i);
     }
   }
   return js;
@@ -60,7 +60,7 @@ double BackendProblem::evaluate(const double* x, double* grad, BackendCost* cost
   c = BackendCost{};
   stats_ = SafetyStats{};
   const double f = midend_.evaluate(x, grad, &c.midend);
-  c.safety = c.midend.extra;
+  c.safety = c.midend.extra / safety_scale_;
   c.safety_stats = stats_;
   if (!std::isfinite(f)) {
     if (grad) std::fill(grad, grad + num_variables(), 0.0);

@@ -44,8 +44,10 @@ KcSvsdf::KcSvsdf(const RobotSdf& sdf, const SweptBody& body, const KcSvsdfSettin
   a_.reserve(static_cast<std::size_t>(settings_.max_iterations));
 }
 
-void KcSvsdf::evaluate(const Eigen::Vector3d& p, std::uint32_t needed, KcSvsdfResult& out, double d_cap) {
+void KcSvsdf::evaluate(const Eigen::Vector3d& p, std::uint32_t needed, KcSvsdfResult& out, double d_cap,
+                       const TimeHints* hints) {
   ++stats_.queries;
+  hints_ = hints;
   for (LinkDistance& l : out.links) {
     l.computed = false;
     l.far = false;
@@ -54,10 +56,16 @@ void KcSvsdf::evaluate(const Eigen::Vector3d& p, std::uint32_t needed, KcSvsdfRe
   }
   out.G.setZero();
   d_cap_ = d_cap;
-  // The base is always refined: its t0* centres every window, and a coarse (sample) centre would
-  // make the windows jump as the trajectory changes.
+  // The base's t0* only centres the windows of links 1..7 (+- dt, seconds wide): when the base's
+  // own D is not asked for, or is above the cap, its scan's best sample is t0* (half a scan step
+  // from the refined one) and the base is not refined; ensure() refines it if the filter needs its
+  // escape.
   SearchOptions base_options;
+  base_options.skip_above = d_cap;
+  base_options.coarse_only = !(needed & 1u);
+  base_options.prune_above_skip = false;
   base_options.band = settings_.svsdf.base_tie_band_m;
+  base_options.hint_t_s = hint(0);
   eval_.search(0, p, 0.0, eval_.body().duration_s(), base_, base_options);
   out.t0_star_s = base_.t_star_s;
   const double dt = settings_.svsdf.window_half_width_s;
@@ -74,9 +82,14 @@ void KcSvsdf::ensure(int j, const Eigen::Vector3d& p, KcSvsdfResult& out, bool e
   ++stats_.links_computed;
   SvsdfValue v;
   SearchOptions options;
-  options.profile = &profile_;  // kept for a ball search
   options.skip_above = exact ? std::numeric_limits<double>::infinity() : d_cap_;
+  options.hint_t_s = hint(j);
   if (j == 0) {
+    if (exact && base_.far) {
+      SearchOptions refine_base;
+      refine_base.hint_t_s = base_.t_star_s;
+      eval_.search(0, p, 0.0, eval_.body().duration_s(), base_, refine_base);
+    }
     v = base_;
   } else {
     eval_.search(j, p, out.window_lo_s, out.window_hi_s, v, options);
@@ -118,13 +131,12 @@ void KcSvsdf::ensure(int j, const Eigen::Vector3d& p, KcSvsdfResult& out, bool e
       ensure(j - 2, p, out, true);
       ensure(j - 1, p, out, true);
     }
-    // The ball search reads p's profile over the window; the base's g_0 came from the full search,
-    // and the links j-2, j-1 computed above have overwritten it: search the window again then.
-    if (j == 0 || (settings_.kinematic_filter && j >= 2)) {
-      SearchOptions with_profile;
-      with_profile.profile = &profile_;
-      eval_.search(j, p, out.window_lo_s, out.window_hi_s, v, with_profile);
-    }
+    // The ball search reads p's profile over the window (the base's g_0 came from the full
+    // search; the searches above did not keep one): search the window again with the profile.
+    SearchOptions with_profile;
+    with_profile.profile = &profile_;
+    with_profile.hint_t_s = v.t_star_s;
+    eval_.search(j, p, out.window_lo_s, out.window_hi_s, v, with_profile);
     ball_search(j, p, v, out);
   }
   l.computed = true;

@@ -33,6 +33,7 @@ LinkSdf LinkSdf::build(const std::vector<CollisionShape>& shapes_L, const SdfGri
   sdf.coarse_ = SdfGrid::covering(coarse_box, hc);
   detail::fill_exact_sdf(shapes_L, sdf.coarse_);
   sdf.blend_width_m_ = 2.0 * hc;
+  sdf.coarse_padding_m_ = coarse_pad.x();
   return sdf;
 }
 
@@ -97,6 +98,29 @@ double LinkSdf::distance_fast(const Eigen::Vector3d& p_L) const {
   if (coarse_.contains(p_L)) return coarse_.trilinear(p_L, nullptr);
   const Eigen::AlignedBox3d& box = coarse_.smooth_bounds();
   const Eigen::Vector3d q = p_L.cwiseMax(box.min()).cwiseMin(box.max());
+  return coarse_.trilinear(q, nullptr) + (p_L - q).norm();
+}
+
+double LinkSdf::distance_fast(const Eigen::Vector3d& p_L, double* sd_lower) const {
+  if (fine_.empty()) {
+    *sd_lower = kNoGeometryDistance_m;
+    return kNoGeometryDistance_m;
+  }
+  if (fine_.contains(p_L)) {
+    const double v = fine_.trilinear(p_L, nullptr);
+    *sd_lower = v - fine_.error_bound_m();
+    return v;
+  }
+  if (coarse_.contains(p_L)) {
+    const double v = coarse_.trilinear(p_L, nullptr);
+    *sd_lower = v - coarse_.error_bound_m();
+    return v;
+  }
+  // Outside the coarse grid's B-spline region, p is at least coarse_padding - h_c / 2 from the
+  // body's bounds.
+  const Eigen::AlignedBox3d& box = coarse_.smooth_bounds();
+  const Eigen::Vector3d q = p_L.cwiseMax(box.min()).cwiseMin(box.max());
+  *sd_lower = coarse_padding_m_ - 0.5 * coarse_.resolution_m();
   return coarse_.trilinear(q, nullptr) + (p_L - q).norm();
 }
 

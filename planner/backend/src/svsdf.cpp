@@ -50,16 +50,48 @@ double SvsdfEvaluator::evaluate_at(int link, const Eigen::Vector3d& p, double t_
   return f;
 }
 
-double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi) {
+void SvsdfEvaluator::clear_scan() {
+  const auto samples = static_cast<std::size_t>(body_->num_samples());
+  if (values_.size() != samples) {
+    values_.assign(samples, kInf);
+  } else {
+    for (int k : touched_) values_[static_cast<std::size_t>(k)] = kInf;
+  }
+  touched_.clear();
+}
+
+double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi, int hint_k, bool dense_lower,
+                            double level_cap, double margin_override) {
+  clear_scan();
   const LinkSdf& sdf = sdf_->link(link);
   const Eigen::AlignedBox3d& box = sdf.body_bounds();
   const double err = sdf.fine().error_bound_m();
-  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * err;
+  // Either interpolant (fine or coarse grid) is within err_any of the true signed distance.
+  const double err_any = std::max(err, sdf.coarse().error_bound_m());
+  const double step = body_->max_step_m(link);
+  double best = kInf;
+  const double margin = margin_override >= 0.0 ? margin_override : 2.0 * step + 2.0 * err;
+  // Samples above the level cannot matter: above best + margin they cannot hold a kept minimum,
+  // above level_cap the caller does not use the value.
+  const auto level = [&]() { return std::min(best + margin, level_cap); };
   const int n = k_hi - k_lo + 1;
-  values_.assign(static_cast<std::size_t>(n), kInf);
-  lower_.resize(static_cast<std::size_t>(n));
-  points_.resize(static_cast<std::size_t>(n));
+  if (dense_lower) lower_.assign(static_cast<std::size_t>(n), kInf);
   stats_.samples_in_range += n;
+  auto set_lower = [&](int k, double v) {
+    if (dense_lower) lower_[static_cast<std::size_t>(k - k_lo)] = v;
+  };
+  int evaluated = 0;
+  // Looks sample k up; returns a lower bound on the true signed distance there (for the skip).
+  auto look_up = [&](int k, const Eigen::Vector3d& p_L, double box_d) {
+    double sd_lower = box_d;
+    const double v = sdf.distance_fast(p_L, &sd_lower);
+    values_[static_cast<std::size_t>(k)] = v;
+    touched_.push_back(k);
+    set_lower(k, v);
+    ++evaluated;
+    best = std::min(best, v);
+    return std::max(box_d, sd_lower);
+  };
   // Level 1: the link's world box over each piece bounds the field from below for all of the
   // piece's samples; pieces are visited from the closest box and skipped once their bound exceeds
   // the best value found + margin (margin: the scan's values can be refined down by one step of
@@ -75,35 +107,62 @@ double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_
       continue;
     }
     const double lb = body_->piece_box(link, i).exteriorDistance(p) - err;
-    for (int k = a; k <= b; ++k) lower_[static_cast<std::size_t>(k - k_lo)] = lb;
+    if (dense_lower) {
+      for (int k = a; k <= b; ++k) lower_[static_cast<std::size_t>(k - k_lo)] = lb;
+    }
     piece_order_.push_back({lb, a, b});
   }
   std::sort(piece_order_.begin(), piece_order_.end(),
             [](const PieceRange& x, const PieceRange& y) { return x.lower < y.lower; });
-  double best = kInf;
-  int evaluated = 0;
+  // A first guess (the previous evaluation's t*): a tight `best` from the start prunes the most.
+  if (hint_k >= k_lo && hint_k <= k_hi) {
+    const Eigen::Vector3d p_L = body_->sample_pose(hint_k, link).apply(p);
+    look_up(hint_k, p_L, box.exteriorDistance(p_L));
+  }
   for (const PieceRange& range : piece_order_) {
-    if (range.lower > best + margin) break;
-    // Level 2: p in the link frame at each sample; the distance to the link's bounding box.
-    int seed = range.first;
-    for (int k = range.first; k <= range.last; ++k) {
-      const auto u = static_cast<std::size_t>(k - k_lo);
-      points_[u] = body_->sample_pose(k, link).apply(p);
-      lower_[u] = box.exteriorDistance(points_[u]) - err;
-      if (lower_[u] < lower_[static_cast<std::size_t>(seed - k_lo)]) seed = k;
-    }
+    if (range.lower > level()) break;
     if (best == kInf) {
-      const auto u = static_cast<std::size_t>(seed - k_lo);
-      values_[u] = lower_[u] = best = sdf.distance_fast(points_[u]);
-      ++evaluated;
+      if (range.lower > level_cap) break;
+      // Seed: the sample whose link-frame box is nearest to p.
+      int seed = range.first;
+      double seed_d = kInf;
+      for (int k = range.first; k <= range.last; ++k) {
+        const double d = box.exteriorDistance(body_->sample_pose(k, link).apply(p));
+        if (d < seed_d) {
+          seed_d = d;
+          seed = k;
+        }
+      }
+      look_up(seed, body_->sample_pose(seed, link).apply(p), seed_d);
     }
-    // Level 3: look the field up where the bound does not exclude the sample.
-    for (int k = range.first; k <= range.last; ++k) {
-      const auto u = static_cast<std::size_t>(k - k_lo);
-      if (values_[u] != kInf || lower_[u] > best + margin) continue;
-      values_[u] = lower_[u] = sdf.distance_fast(points_[u]);
-      ++evaluated;
-      best = std::min(best, values_[u]);
+    // Level 2 and 3, swept in time with a Lipschitz skip: the true signed distance of p to the
+    // link changes by at most step between neighbouring samples (no link point moves more), and
+    // each interpolant is within err_any of it. A sample whose lower bound L holds every sample
+    // i steps on above L - i step - err_any; those above best + margin are skipped unvisited.
+    int k = range.first;
+    while (k <= range.last) {
+      double sd_lower;
+      if (values_[static_cast<std::size_t>(k)] != kInf) {
+        sd_lower = values_[static_cast<std::size_t>(k)] - err_any;  // the hint or the seed
+      } else {
+        const Eigen::Vector3d p_L = body_->sample_pose(k, link).apply(p);
+        const double box_d = box.exteriorDistance(p_L);
+        if (box_d - err > level()) {
+          sd_lower = box_d;
+          set_lower(k, box_d - err);
+        } else {
+          sd_lower = look_up(k, p_L, box_d);
+        }
+      }
+      const double slack = sd_lower - err_any - level();
+      int skip = 0;
+      if (slack > 0.0) {
+        const double span = static_cast<double>(range.last - k);
+        const double steps = step > 0.0 ? std::ceil(slack / step) - 1.0 : span;
+        skip = static_cast<int>(std::min(span, std::max(0.0, steps)));
+        for (int i = 1; dense_lower && i <= skip; ++i) set_lower(k + i, sd_lower - i * step - err_any);
+      }
+      k += 1 + skip;
     }
   }
   stats_.samples_evaluated += evaluated;
@@ -241,6 +300,7 @@ void SvsdfEvaluator::finish(int link, const Eigen::Vector3d& p, const Candidate&
     ++stats_.exact_evaluations;
     body_->evaluate(best.t, kept_, link);
   }
+  out.far = false;
   const BodyState& st = kept_;
   const Eigen::Matrix3d& R = st.kin.R_W_L[static_cast<std::size_t>(link)];
   const Eigen::Vector3d p_L = R.transpose() * (p - st.kin.t_W_L[static_cast<std::size_t>(link)]);
@@ -302,45 +362,68 @@ void SvsdfEvaluator::search(int link, const Eigen::Vector3d& p, double t_lo_s, d
     out.band_lo_s = out.band_hi_s = out.t_star_s;
     return;
   }
-  const double coarse = scan(link, p, k_lo, k_hi);
+  int hint_k = -1;
+  if (std::isfinite(options.hint_t_s)) {
+    hint_k = std::min(body_->first_sample_at_or_after(options.hint_t_s), body_->num_samples() - 1);
+  }
+  const double reach = body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
+  const double level_cap = options.prune_above_skip ? options.skip_above + reach : kInf;
+  const double margin_override = options.coarse_only ? std::max(0.0, options.band) : -1.0;
+  double coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, level_cap, margin_override);
+  // The cap pruned at a level below best + margin, and the value is needed after all: some
+  // samples that could hold a kept minimum may have been skipped, so scan again without the cap.
+  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
+  if (!options.coarse_only && coarse <= level_cap && level_cap < coarse + margin) {
+    coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, kInf, -1.0);
+  }
   if (profile) {
     profile->k_lo = k_lo;
     profile->lower.assign(lower_.begin(), lower_.end());
     profile->order.clear();
   }
 
-  const int n = k_hi - k_lo + 1;
-  const double reach = body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
-  if (coarse > options.skip_above + reach) {
+  const auto value = [this](int k) { return values_[static_cast<std::size_t>(k)]; };
+  if (options.coarse_only || coarse > options.skip_above + reach) {
     ++stats_.skipped;
     out = SvsdfValue{};
     out.far = true;
-    out.g = coarse;
-    int best = 0;
-    for (int i = 1; i < n; ++i) {
-      if (values_[static_cast<std::size_t>(i)] < values_[static_cast<std::size_t>(best)]) best = i;
+    // With every sample pruned, the level that proved g > skip_above.
+    out.g = std::isfinite(coarse) ? coarse : options.skip_above + reach;
+    int best = touched_.empty() ? (hint_k >= k_lo && hint_k <= k_hi ? hint_k : k_lo) : touched_[0];
+    for (int k : touched_) {
+      if (value(k) < value(best) || (value(k) == value(best) && k < best)) best = k;
     }
-    out.t_star_s = body_->sample_time(k_lo + best);
+    out.t_star_s = body_->sample_time(best);
     out.band_lo_s = out.band_hi_s = out.t_star_s;
+    if (options.band >= 0.0) {
+      for (int k : touched_) {
+        if (value(k) > coarse + options.band) continue;
+        out.band_lo_s = std::min(out.band_lo_s, body_->sample_time(k));
+        out.band_hi_s = std::max(out.band_hi_s, body_->sample_time(k));
+      }
+    }
     return;
   }
+  // Local minima among the looked-up samples (a skipped sample is above best + margin, so it
+  // never hides a minimum that can be kept below).
   minima_.clear();
-  for (int i = 0; i < n; ++i) {
-    const double v = values_[static_cast<std::size_t>(i)];
-    if (!std::isfinite(v)) continue;
-    const double left = i > 0 ? values_[static_cast<std::size_t>(i) - 1] : kInf;
-    const double right = i + 1 < n ? values_[static_cast<std::size_t>(i) + 1] : kInf;
-    if (v <= left && v < right) minima_.push_back(i);
+  for (int k : touched_) {
+    const double v = value(k);
+    const double left = k > k_lo ? value(k - 1) : kInf;
+    const double right = k < k_hi ? value(k + 1) : kInf;
+    if (v <= left && v < right) minima_.push_back(k - k_lo);
   }
-  const auto by_value = [this](int a, int b) {
-    return values_[static_cast<std::size_t>(a)] < values_[static_cast<std::size_t>(b)];
+  const int n = k_hi - k_lo + 1;
+  const auto by_value = [&](int a, int b) {
+    const double va = value(k_lo + a), vb = value(k_lo + b);
+    return va < vb || (va == vb && a < b);
   };
   int keep = std::min(static_cast<int>(minima_.size()), std::max(1, settings_.max_local_minima));
   std::partial_sort(minima_.begin(), minima_.begin() + keep, minima_.end(), by_value);
   // A minimum can only beat the best one after refinement if its sample value is within the
   // largest drop between samples (one step of motion) plus the two interpolants' difference.
-  while (keep > 1 && values_[static_cast<std::size_t>(minima_[static_cast<std::size_t>(keep) - 1])] >
-                         values_[static_cast<std::size_t>(minima_[0])] + reach) {
+  while (keep > 1 && value(k_lo + minima_[static_cast<std::size_t>(keep) - 1]) >
+                         value(k_lo + minima_[0]) + reach) {
     --keep;
   }
 
@@ -356,10 +439,10 @@ void SvsdfEvaluator::search(int link, const Eigen::Vector3d& p, double t_lo_s, d
   finish(link, p, best, lo, hi, out);
   out.band_lo_s = out.band_hi_s = out.t_star_s;
   if (options.band >= 0.0) {
-    for (int i = 0; i < n; ++i) {
-      if (values_[static_cast<std::size_t>(i)] > out.g + options.band) continue;
-      out.band_lo_s = std::min(out.band_lo_s, body_->sample_time(k_lo + i));
-      out.band_hi_s = std::max(out.band_hi_s, body_->sample_time(k_lo + i));
+    for (int k : touched_) {
+      if (value(k) > out.g + options.band) continue;
+      out.band_lo_s = std::min(out.band_lo_s, body_->sample_time(k));
+      out.band_hi_s = std::max(out.band_hi_s, body_->sample_time(k));
     }
   }
 }
@@ -373,7 +456,7 @@ double SvsdfEvaluator::coarse_minimum(int link, const Eigen::Vector3d& p, double
   int k_hi = body_->first_sample_at_or_after(hi);
   if (k_hi >= body_->num_samples() || body_->sample_time(k_hi) > hi) --k_hi;
   if (k_lo > k_hi) return evaluate_at(link, p, 0.5 * (lo + hi), nullptr);
-  return scan(link, p, k_lo, k_hi);
+  return scan(link, p, k_lo, k_hi, -1, false, kInf, -1.0);
 }
 
 }  // namespace porter::backend

@@ -2,9 +2,45 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <cstring>
+#include <limits>
 #include <thread>
 
 namespace porter::backend {
+
+namespace {
+TimeHints no_hints() {
+  TimeHints h;
+  h.fill(std::numeric_limits<float>::quiet_NaN());
+  return h;
+}
+}  // namespace
+
+namespace {
+
+/// Identifies a map: geometry and a hash of its bits (FNV-1a over the words). Never 0.
+std::uint64_t map_key(const OccupancyGrid& map) {
+  std::uint64_t h = 1469598103934665603ull;
+  auto mix = [&h](std::uint64_t v) {
+    h ^= v;
+    h *= 1099511628211ull;
+  };
+  auto mix_double = [&mix](double d) {
+    std::uint64_t v = 0;
+    std::memcpy(&v, &d, sizeof v);
+    mix(v);
+  };
+  for (int a = 0; a < 3; ++a) {
+    mix(static_cast<std::uint64_t>(map.dims()[a]));
+    mix_double(map.origin_W()[a]);
+  }
+  mix_double(map.resolution_m());
+  for (std::uint64_t w : map.words()) mix(w);
+  return h == 0 ? 1 : h;
+}
+
+}  // namespace
 
 SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
                                  const SvsdfSafetySettings& settings)
@@ -12,30 +48,24 @@ SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
   for (int w = 0; w < std::max(1, settings_.threads); ++w) {
     workers_.push_back(std::make_unique<Worker>(sdf, body_, settings_.kc));
   }
+  for (std::size_t j = 0; j < kNumLinks; ++j) {
+    margin_[j] = settings_.link_margin_m[j] > 0.0 ? settings_.link_margin_m[j] : settings_.safety_margin_m;
+    ground_margin_[j] =
+        settings_.link_ground_margin_m[j] > 0.0 ? settings_.link_ground_margin_m[j] : settings_.ground_margin_m;
+  }
 }
 
 void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& initial) {
   body_.reset(initial);
-  Eigen::AlignedBox3d region;
-  for (int j = 0; j < kNumLinks; ++j) region.extend(body_.link_box(j));
-  points_.clear();
-  cell_start_.assign(1, 0);
-  cell_points_.clear();
-  if (region.isEmpty()) return;
-  region.min().array() -= settings_.crop_margin_m;
-  region.max().array() += settings_.crop_margin_m;
-  // Keep only points near some link's swept box (the union box can be mostly empty on a turn).
-  std::vector<ObstaclePoint> all = collect_obstacle_points(map_W, region, settings_.points);
-  const double reach = settings_.crop_margin_m;
-  for (const ObstaclePoint& o : all) {
-    for (int j = 0; j < kNumLinks; ++j) {
-      if ((o.links & (1u << j)) && body_.link_box(j).exteriorDistance(o.p_W) <= reach) {
-        points_.push_back(o);
-        break;
-      }
-    }
+  // Once per map: every surface voxel of the map (and the ground layer under it); the per-piece
+  // prefilter visits only the index cells near the trajectory, so no cropping is needed.
+  const std::uint64_t key = map_key(map_W);
+  if (key != map_key_) {
+    points_ = collect_obstacle_points(map_W, map_W.bounds_W(), settings_.points);
+    map_key_ = key;
+    index_points();
   }
-  index_points();
+  hints_.assign(points_.size(), no_hints());
 }
 
 void SvsdfSafetyTerm::index_points() {
@@ -76,10 +106,10 @@ void SvsdfSafetyTerm::find_candidates() {
   masks_.assign(points_.size(), 0u);
   candidates_.clear();
   if (points_.empty()) return;
-  const double widest = std::max(settings_.safety_margin_m, settings_.ground_margin_m);
   const int pieces = body_.trajectory().num_pieces();
   for (int j = 0; j < kNumLinks; ++j) {
     const double err = sdf_->link(j).fine().error_bound_m();
+    const double widest = std::max(margin_[static_cast<std::size_t>(j)], ground_margin_[static_cast<std::size_t>(j)]);
     const Eigen::AlignedBox3d& local = sdf_->link(j).body_bounds();
     const std::uint32_t bit = 1u << j;
     for (int i = 0; i < pieces; ++i) {
@@ -96,7 +126,7 @@ void SvsdfSafetyTerm::find_candidates() {
               const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
               const ObstaclePoint& o = points_[idx];
               if ((masks_[idx] & bit) || !(o.links & bit)) continue;
-              const double r = (o.ground ? settings_.ground_margin_m : settings_.safety_margin_m) + err;
+              const double r = margin_of(o, j) + err;
               if (box.exteriorDistance(o.p_W) > r) continue;
               // Level 2, in the link frame at the piece's samples: between samples every link
               // point moves at most max_step, so the link stays farther than (distance to its
@@ -118,7 +148,6 @@ void SvsdfSafetyTerm::find_candidates() {
 }
 
 void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
-  const double s_thr = settings_.safety_margin_m;
   const double weight = settings_.weight;
   const int stride = static_cast<int>(workers_.size());
   w.cost = 0.0;
@@ -127,17 +156,24 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
   for (std::size_t c = static_cast<std::size_t>(index); c < candidates_.size(); c += static_cast<std::size_t>(stride)) {
     const auto i = static_cast<std::size_t>(candidates_[c]);
     const ObstaclePoint& o = points_[i];
-    const double margin = o.ground ? settings_.ground_margin_m : s_thr;
     const std::uint32_t mask = masks_[i];
-    ++w.stats.candidate_points;
-    w.kc.evaluate(o.p_W, mask, w.result, margin);
+    double cap = 0.0;  // D values above every needed link's margin are not used
     for (int j = 0; j < kNumLinks; ++j) {
+      if (mask & (1u << j)) cap = std::max(cap, margin_of(o, j));
+    }
+    ++w.stats.candidate_points;
+    TimeHints& hint = hints_[i];
+    w.kc.evaluate(o.p_W, mask, w.result, cap, &hint);
+    hint[0] = static_cast<float>(w.result.t0_star_s);
+    for (int j = 0; j < kNumLinks; ++j) {
+      const LinkDistance& l = w.result.links[static_cast<std::size_t>(j)];
+      if (j > 0 && l.computed) hint[static_cast<std::size_t>(j)] = static_cast<float>(l.t_star_s);
       if (!(mask & (1u << j))) continue;
-      const double d = w.result.links[static_cast<std::size_t>(j)].d;
+      const double d = l.d;
       ++w.stats.link_queries;
       w.stats.min_distance_m = std::min(w.stats.min_distance_m, d);
       w.stats.inside += d < 0.0;
-      const double x = margin - d;
+      const double x = margin_of(o, j) - d;
       if (x <= 0.0) continue;
       ++w.stats.violations;
       w.cost += weight * x * x * x;
@@ -150,6 +186,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
   const auto start = std::chrono::steady_clock::now();
   body_.reset(trajectory);
   if (cell_start_.size() < 2) index_points();  // points set by set_points()
+  if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
   find_candidates();
   std::vector<std::thread> helpers;
   for (std::size_t w = 1; w < workers_.size(); ++w) {

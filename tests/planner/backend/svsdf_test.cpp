@@ -56,6 +56,12 @@ Eigen::Vector3d point_near(const SweptBody& body, int link, std::mt19937& rng, d
   return st.kin.R_W_L[l] * p_L + st.kin.t_W_L[l] + spread * Eigen::Vector3d(s(rng), s(rng), s(rng));
 }
 
+testing::RandomTrajectoryOptions RandomTrajectoryOptionsLong() {
+  testing::RandomTrajectoryOptions o;
+  o.pieces = 8;
+  return o;
+}
+
 class SvsdfTest : public ::testing::Test {
  protected:
   SvsdfTest() : model_(testing::robot(kPayload)), sdf_(testing::robot_sdf(kPayload)), body_(model_) {}
@@ -88,6 +94,46 @@ TEST_F(SvsdfTest, FullSearchMatchesDenseSampling) {
     }
   }
   EXPECT_GT(inside, 3);  // the sample covers points inside swept volumes too
+}
+
+TEST_F(SvsdfTest, HintsDoNotChangeTheResultAndScanBoundsHold) {
+  // The scan skips samples by a Lipschitz bound and may start from a hint: the result must be the
+  // same with any hint, and every per-sample lower bound it reports (the profile) must hold for the
+  // trilinear value at that sample (slow reference: every sample looked up).
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int skipped_somewhere = 0;
+  for (std::uint64_t seed : {4u, 5u}) {
+    body_.reset(testing::random_trajectory(model_, seed, RandomTrajectoryOptionsLong()));
+    SvsdfEvaluator eval(sdf_, body_, SvsdfSettings{});
+    for (int link = 0; link < kNumLinks; ++link) {
+      for (double spread : {0.05, 0.3, 0.9}) {
+        const Eigen::Vector3d p = point_near(body_, link, rng, spread);
+        SvsdfValue plain, hinted, at_answer;
+        ScanProfile profile;
+        SearchOptions with_profile;
+        with_profile.profile = &profile;
+        eval.search(link, p, 0.0, body_.duration_s(), plain, with_profile);
+        SearchOptions hint;
+        hint.hint_t_s = u(rng) * body_.duration_s();
+        eval.search(link, p, 0.0, body_.duration_s(), hinted, hint);
+        hint.hint_t_s = plain.t_star_s;
+        eval.search(link, p, 0.0, body_.duration_s(), at_answer, hint);
+        EXPECT_EQ(plain.g, hinted.g) << "link " << link << " spread " << spread;
+        EXPECT_EQ(plain.t_star_s, hinted.t_star_s);
+        EXPECT_EQ(plain.g, at_answer.g);
+        EXPECT_EQ(plain.t_star_s, at_answer.t_star_s);
+        ASSERT_EQ(static_cast<int>(profile.lower.size()), body_.num_samples() - profile.k_lo);
+        for (std::size_t i = 0; i < profile.lower.size(); ++i) {
+          const int k = profile.k_lo + static_cast<int>(i);
+          const double v = sdf_.link(link).distance_fast(body_.sample_pose(k, link).apply(p));
+          EXPECT_LE(profile.lower[i], v + 1e-12) << "link " << link << " sample " << k;
+        }
+      }
+    }
+    skipped_somewhere += eval.stats().samples_evaluated < eval.stats().samples_in_range;
+  }
+  EXPECT_GT(skipped_somewhere, 0);  // the skip is exercised
 }
 
 TEST_F(SvsdfTest, WindowedSearchMatchesDenseSamplingInTheWindow) {

@@ -30,7 +30,7 @@ namespace porter::backend {
 
 struct BackendCost {
   midend::CostBreakdown midend;  ///< the mid-end's terms; midend.extra = J_s
-  double safety = 0.0;           ///< J_s (= midend.extra; 0 when the extra term is masked off)
+  double safety = 0.0;           ///< J_s (= midend.extra / safety scale; 0 when masked off)
   SafetyStats safety_stats;      ///< of the SafetyTerm evaluation behind `safety`
   double total() const { return midend.total(); }
 };
@@ -59,6 +59,12 @@ class BackendProblem {
   /// mid-end problem is unusable at x or J_s is not finite.
   double evaluate(const double* x, double* grad, BackendCost* cost);
 
+  /// Multiplies J_s (and its gradient) by scale > 0 in evaluate() (the back-end's weight
+  /// escalation); BackendCost::midend.extra (and total()) then hold the scaled value,
+  /// BackendCost::safety the unscaled J_s. Default 1.
+  void set_safety_scale(double scale) { safety_scale_ = scale; }
+  double safety_scale() const { return safety_scale_; }
+
   /// The trajectory x describes (nullopt if x is unusable).
   std::optional<Trajectory> trajectory(const double* x);
 
@@ -69,6 +75,7 @@ class BackendProblem {
   SafetyTerm* safety_;
   TrajectoryGradient tgrad_;
   SafetyStats stats_;
+  double safety_scale_ = 1.0;
 };
 
 }  // namespace porter::backend

@@ -64,8 +64,12 @@ struct BackendResult {
   double optimize_s = 0.0;          ///< L-BFGS
   double safety_s = 0.0;            ///< inside SafetyTerm::evaluate (part of optimize_s)
   double check_s = 0.0;             ///< the re-check
-  int iterations = 0;
+  double recheck_s = 0.0;           ///< in-loop re-checks (part of optimize_s)
+  int iterations = 0;               ///< over every round
   int evaluations = 0;
+  int rechecks = 0;                 ///< in-loop kernel re-checks (BackendSettings)
+  int rounds = 1;                   ///< L-BFGS rounds (1 + safety-weight escalations)
+  double safety_weight_scale = 1.0; ///< of the last round
   int lbfgs_code = 0;
   int num_pieces = 0;
   int num_variables = 0;

@@ -35,6 +35,19 @@ struct BackendSettings {
   /// Stop early once the collision term has been zero for this many consecutive iterations (the
   /// remaining iterations would only polish smoothness); 0 disables. >= 0.
   int stop_after_safe_iterations = 0;
+
+  // --- Until the re-check passes (Porter's choice; the paper runs the optimizer to convergence) --
+  // The cubic penalty settles where it balances the smooth terms, which can leave a link just
+  // inside the re-check's inflation after L-BFGS has converged. With a checker passed to solve():
+  /// the kernel trajectory check runs on every this many accepted iterates (~1-3 ms each) and the
+  /// solve stops at the first one that passes (its smoothness is then the mid-end's plus what the
+  /// escape needed); 0: only after each round. >= 0.
+  int recheck_every_iterations = 2;
+  /// When L-BFGS stops (converged, stalled, iteration cap) before the budget while the re-check
+  /// still fails, the safety weight is multiplied by this and L-BFGS restarts from its last
+  /// iterate, at most max_weight_escalations times. >= 1.
+  double weight_escalation_factor = 4.0;
+  int max_weight_escalations = 4;  ///< >= 0
 };
 
 }  // namespace porter::backend

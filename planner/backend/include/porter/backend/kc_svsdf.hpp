@@ -81,6 +81,10 @@ struct KcSvsdfSettings {
 
 inline constexpr std::uint32_t kAllLinks = (1u << kNumLinks) - 1;
 
+/// First guesses of t*_j per link, s (NaN: none), e.g. a point's t* at the previous evaluation.
+/// They only speed the t* scans up (SearchOptions::hint_t_s); results do not depend on them.
+using TimeHints = std::array<float, kNumLinks>;
+
 /// D[j] and everything needed to differentiate it.
 struct LinkDistance {
   bool computed = false;
@@ -139,7 +143,7 @@ class KcSvsdf {
   /// coarse scan proves g_j > d_cap is left `far` (value only, no refinement, no gradient, no
   /// escape) unless a ball search needs its escape. The base is always searched exactly (t0*).
   void evaluate(const Eigen::Vector3d& p_W, std::uint32_t needed, KcSvsdfResult& out,
-                double d_cap = std::numeric_limits<double>::infinity());
+                double d_cap = std::numeric_limits<double>::infinity(), const TimeHints* hints = nullptr);
 
   SvsdfEvaluator& svsdf() { return eval_; }
   const SvsdfEvaluator& svsdf() const { return eval_; }
@@ -148,12 +152,16 @@ class KcSvsdf {
 
  private:
   void ensure(int j, const Eigen::Vector3d& p, KcSvsdfResult& out, bool exact);
+  double hint(int j) const {
+    return hints_ ? static_cast<double>((*hints_)[static_cast<std::size_t>(j)]) : std::numeric_limits<double>::quiet_NaN();
+  }
   void ball_search(int j, const Eigen::Vector3d& p, const SvsdfValue& at_p, KcSvsdfResult& out);
 
   KcSvsdfSettings settings_;
   SvsdfEvaluator eval_;
   SvsdfValue base_;                     ///< g_0(p) of the current query
   double d_cap_ = std::numeric_limits<double>::infinity();
+  const TimeHints* hints_ = nullptr;
   ScanProfile profile_;                 ///< p's scan over the window of the link being searched
   std::vector<Eigen::Vector3d> lattice_;
   std::vector<Eigen::Vector3d> term_grads_;  ///< grad_p g at each recorded y_k

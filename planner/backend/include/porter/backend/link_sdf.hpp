@@ -74,6 +74,10 @@ class LinkSdf {
   /// Same field with trilinear interpolation (no gradient): within the same error bound of the
   /// true distance, ~3x cheaper. For coarse scans only.
   double distance_fast(const Eigen::Vector3d& p_L) const;
+  /// distance_fast() and a lower bound on the exact signed distance at p_L to *sd_lower: the value
+  /// minus the error bound of the grid read (fine or coarse); beyond the coarse grid (where the
+  /// value is an upper bound) the coarse padding, which the exact distance exceeds there.
+  double distance_fast(const Eigen::Vector3d& p_L, double* sd_lower) const;
 
   const SdfGrid& fine() const { return fine_; }
   const SdfGrid& coarse() const { return coarse_; }
@@ -85,6 +89,7 @@ class LinkSdf {
   SdfGrid fine_;
   SdfGrid coarse_;
   double blend_width_m_ = 0.0;
+  double coarse_padding_m_ = 0.0;
   Eigen::AlignedBox3d body_bounds_;
 };
 

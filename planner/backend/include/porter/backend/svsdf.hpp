@@ -8,8 +8,14 @@
 //   1. coarse scan of the SweptBody's cached samples in [a, b], pruned by lower bounds on the field
 //      (minus its error bound): pieces are visited from the nearest swept world box and skipped
 //      once that box is farther than the best value found + 2 max_step_j + 2 err; in a visited
-//      piece p is mapped into the link frame at each sample and the distance to the link's own
-//      bounding box prunes the same way; the remaining samples get a trilinear lookup;
+//      piece p is mapped into the link frame at a sample and the distance to the link's own
+//      bounding box prunes the same way; the remaining samples get a trilinear lookup. Between
+//      samples the true distance changes by at most max_step_j (no link point moves more), so a
+//      sample whose bound exceeds the pruning level by i max_step_j (+ the fields' error) also
+//      bounds the next i samples, which are skipped unvisited. A first guess (SearchOptions::
+//      hint_t_s, e.g. the previous evaluation's t*) is looked up first for a tight level from the
+//      start. None of this changes the result: every sample that can hold a kept minimum (within
+//      the pruning level) is looked up, in any order;
 //   2. the scan's local minima are ranked and the best max_local_minima of them are kept (a point
 //      can be approached several times: a turn, a back-and-forth of the arm), dropping those whose
 //      sample value is more than one step of motion (+ 2 err) above the best;
@@ -52,8 +58,10 @@ struct SvsdfSettings {
   int max_refine_iterations = 40;
   /// Half-width dt of the window searched for links 1..7 around the base's t0*, s. > 0. It must
   /// cover the delay between the base and a link passing the same point: a payload reaching
-  /// ~0.8 m ahead of the base at ~0.4-0.5 m/s needs ~2 s.
-  double window_half_width_s = 2.0;
+  /// ~1 m ahead of the base at the ~0.25 m/s the mid-end gives a pass through the bridge needs ~4 s
+  /// (2 s missed the payload's pass under the deck on bridge seeds: J_s ~0 with the payload 5 cm
+  /// from the deck). The scan's Lipschitz skip keeps the wider window cheap.
+  double window_half_width_s = 4.0;
   /// t0* as a set: the base's distance to p is often flat over a stretch (a face parallel to the
   /// motion) or equal at two passes (a manoeuvre), and a single argmin would then jump along the
   /// stretch or between the passes, dragging the windows of links 1..7 with it. The window is
@@ -83,8 +91,9 @@ struct SvsdfValue {
   DofVector d_config = DofVector::Zero();              ///< dg/d[x, y, yaw, q1..q6] at t*
   PointSensitivity sensitivity;                        ///< dg/dz, dg/dzdot at t*
   bool on_window_edge = false;
-  /// The coarse scan alone showed g > skip_above (SearchOptions): g holds the scan's minimum, t* its
-  /// sample time; no refinement, gradients zero.
+  /// The coarse scan alone showed g > skip_above (SearchOptions), or only the scan was asked for
+  /// (coarse_only): g holds the scan's minimum (when the scan pruned every sample, the level that
+  /// proved g > skip_above), t* its sample time; no refinement, gradients zero.
   bool far = false;
   /// First and last scan-sample times whose value is within SearchOptions::band of g (t* included).
   double band_lo_s = 0.0;
@@ -98,8 +107,18 @@ struct SearchOptions {
   /// more than the most the refined minimum can be below it (one step of motion + twice the
   /// field's error bound). Callers that only use g below a margin pass the margin.
   double skip_above = std::numeric_limits<double>::infinity();
+  /// With a finite skip_above, the scan also leaves out samples that cannot bring its minimum
+  /// below skip_above + one step (+ 2 err): a far result then only bounds g from below and its t*
+  /// is not the scan's argmin (when the value is needed after all, the scan is redone without
+  /// this). Callers that use a far result's t* (the base's, which centres the windows) pass false.
+  bool prune_above_skip = true;
   /// Fill SvsdfValue::band_lo_s / band_hi_s with this band (m); negative: t* for both.
   double band = -1.0;
+  /// Only the scan: t* is its best sample, g its value, band_lo/hi over the samples within `band`
+  /// (which are the only ones looked up besides the pruning's); no refinement (SvsdfValue::far).
+  bool coarse_only = false;
+  /// A first guess of t*, s (NaN: none). Only speeds the scan up; the result does not depend on it.
+  double hint_t_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// Work counters (the benchmark reports them).
@@ -168,8 +187,15 @@ class SvsdfEvaluator {
     bool stationary = false;  ///< found by bracketing a sign change of the time derivative
     bool in_interior = false; ///< not stationary, yet strictly inside the search (see refine())
   };
-  /// Fills values_ for the samples [k_lo, k_hi]; returns the smallest value (inf if all pruned).
-  double scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi);
+  /// Looks up the samples of [k_lo, k_hi] that can hold the minimum (values_, touched_), sample
+  /// hint_k first when in range; returns the smallest value (inf if all pruned). dense_lower:
+  /// also fill lower_ with a bound for every sample (a ScanProfile).
+  /// Samples whose bound exceeds min(best + margin, level_cap) are not looked up; margin is
+  /// 2 max_step + 2 err unless margin_override >= 0.
+  double scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi, int hint_k, bool dense_lower,
+              double level_cap, double margin_override);
+  /// Resets the entries of values_ the last scan set (values_ spans every sample of the body).
+  void clear_scan();
   /// Minimizes around the sample t_k, starting with the bracket [a, b], within the search [lo, hi].
   Candidate refine(int link, const Eigen::Vector3d& p, double a, double t_k, double b, double lo, double hi);
   Candidate bracket_minimum(int link, const Eigen::Vector3d& p, double a, double t_k, double b, double lo,
@@ -188,9 +214,9 @@ class SvsdfEvaluator {
     int first = 0, last = 0;  ///< sample indices in the scanned range
   };
   std::vector<PieceRange> piece_order_;
-  std::vector<double> values_;
-  std::vector<double> lower_;
-  std::vector<Eigen::Vector3d> points_;
+  std::vector<double> values_;   ///< per body sample: the last scan's lookups, else inf
+  std::vector<int> touched_;     ///< samples the last scan looked up
+  std::vector<double> lower_;    ///< per sample of the scanned range, with a profile only
   std::vector<int> minima_;
   SvsdfStats stats_;
 };

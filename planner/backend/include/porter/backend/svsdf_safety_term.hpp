@@ -1,24 +1,29 @@
 #pragma once
 // The back-end safety penalty (paper eq. safety_penalty) on KC-SVSDF distances:
-//   J_s = w * sum_i sum_j L(max(0, s_thr - d_j(x_i))),  L(x) = x^3,
-// (s_thr = ground_margin_m for ground points)
+//   J_s = w * sum_i sum_j L(max(0, s_j - d_j(x_i))),  L(x) = x^3,
 // over obstacle points x_i (obstacle_points.hpp) and links j = 0..7, d_j = D[j] of Algorithm 1
-// (kc_svsdf.hpp). With kinematic_filter = false this is the paper's ablation baseline
-// svsdf_per_link (each link's SVSDF independently); planner/baselines wraps it under that name.
+// (kc_svsdf.hpp), s_j the link's threshold s_thr (its ground margin for ground points). With
+// kinematic_filter = false this is the paper's ablation baseline svsdf_per_link (each link's SVSDF
+// independently); planner/baselines wraps it under that name.
 //
-// Prefilter (paper: AABB test around the trajectory): prepare() keeps the obstacle points within
-// crop_margin_m of the warm start's per-link swept AABBs; every evaluate() then asks, per point, only
-// for the links j that can come within s_thr of it (elsewhere d_j > s_thr, so the penalty and its
-// gradient are zero) and skips points with no such link. Two levels: the link's world AABB swept over
-// a piece, inflated by s_thr + the field's error bound, must contain the point; then, at that piece's
+// Obstacle points are extracted once per map: prepare() keys them by the grid's geometry and a
+// hash of its bits and rebuilds them only when the map changed (a solve on an unchanged map pays
+// nothing). Prefilter (paper: AABB test around the trajectory), per evaluate(): a point is asked
+// only for the links j that can come within s_j of it (elsewhere d_j > s_j, so the penalty and its
+// gradient are zero) and skipped with no such link. Two levels: the link's world AABB swept over a
+// piece, inflated by s_j + the field's error bound, must contain the point; then, at that piece's
 // samples, the point's distance to the link's own bounding box (link frame) must be within
-// s_thr + err + max_step (the most a link point moves between samples). The points are indexed
-// in a uniform grid (kCell_m), so each swept box visits only the points near it. Gradients: dJ_s/d(trajectory) = -3 w x^2 dD_j/d(trajectory), D_j's gradient from
-// kc_svsdf.hpp (t* held fixed, earlier durations shifted).
+// s_j + err + max_step (the most a link point moves between samples). The points are indexed in a
+// uniform grid (kCell_m), so each swept box visits only the points near it. Each point keeps its
+// t*_j of the previous evaluate() as the first guess of the next one's scans (svsdf.hpp; speed only).
+// Gradients: dJ_s/d(trajectory) = -3 w x^2 dD_j/d(trajectory), D_j's gradient from kc_svsdf.hpp
+// (t* held fixed, earlier durations shifted).
 //
 // Thread-safety: one instance per solve (workspaces inside); evaluate() runs `threads` threads
 // internally over the shared, read-only swept body and SDF.
 
+#include <array>
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -31,23 +36,22 @@
 namespace porter::backend {
 
 struct SvsdfSafetySettings {
-  /// s_thr, m: obstacle points closer than this to a link's swept volume are penalized. > 0. It
-  /// must cover what the final kernel re-check adds: the points are voxel centres (half-diagonal
-  /// 4.3 cm at 5 cm voxels) and the kernels flag a link within (3 sqrt(3)/2) h = 13 cm of an
-  /// occupied voxel's box in the worst case (robot_kernels.hpp), plus the field's error (<= 1 cm).
-  /// 0.15 m passes the re-check in practice; below ~0.1 m it mostly does not. Must stay below the
-  /// SDF's fine padding (0.25 m).
-  double safety_margin_m = 0.15;
-  /// The margin against ground points (voxel centres at z = -res/2), m (0 < ground_margin_m <=
-  /// safety_margin_m). The ground lies under the whole trajectory and the scenes' carry pose holds
-  /// the T's crossbar 9 cm above it (11.5 cm from the ground points), which the kernel check
-  /// accepts: the obstacle margin there would fight every configuration the front-end chose.
-  double ground_margin_m = 0.125;
+  /// s_thr, m, of every link without its own (link_margin_m): obstacle points closer than this to
+  /// a link's swept volume are penalized. > 0, below the SDF's fine padding (0.25 m). The final
+  /// kernel re-check must pass once every d_j >= s_j: recheck_margins.hpp derives s_j from the
+  /// kernels' inflation (what porter-plan uses); this default is its value for an arm link at
+  /// 5 cm voxels (inflation 5.8 cm + voxel half-diagonal 4.3 cm + field error + 1 cm slack).
+  double safety_margin_m = 0.12;
+  /// The margin against ground points (voxel centres at z = -res/2) of links without their own
+  /// (link_ground_margin_m), m (0 < ground_margin_m <= safety_margin_m). Derived the same way (a
+  /// link above the ground by the inflation is within sqrt((I + h/2)^2 + h^2/2) of a ground point).
+  double ground_margin_m = 0.105;
+  /// Per-link s_j, m; 0 selects safety_margin_m.
+  std::array<double, kNumLinks> link_margin_m{};
+  /// Per-link ground margins, m; 0 selects ground_margin_m.
+  std::array<double, kNumLinks> link_ground_margin_m{};
   /// w: cost per m^3 of violation. > 0.
   double weight = 1e5;
-  /// Obstacle points are kept within this distance of the warm start's swept AABBs, m (>= s_thr);
-  /// the trajectory may move that far during the solve.
-  double crop_margin_m = 0.5;
   ObstaclePointSettings points;
   KcSvsdfSettings kc;
   SweptBodySettings body;
@@ -66,11 +70,15 @@ class SvsdfSafetyTerm : public SafetyTerm {
   std::string name() const override { return settings_.kc.kinematic_filter ? "kc_svsdf" : "svsdf_per_link"; }
 
   const SvsdfSafetySettings& settings() const { return settings_; }
-  /// Replaces the obstacle points (constructed test cases; prepare() overwrites them).
+  /// Replaces the obstacle points (constructed test cases; the next prepare() re-extracts the map's).
   void set_points(std::vector<ObstaclePoint> points) {
     points_ = std::move(points);
+    map_key_ = 0;
     index_points();
   }
+  /// s_j and the ground margin of link j in effect, m.
+  double margin_m(int link) const { return margin_[static_cast<std::size_t>(link)]; }
+  double ground_margin_m(int link) const { return ground_margin_[static_cast<std::size_t>(link)]; }
   const std::vector<ObstaclePoint>& points() const { return points_; }
   /// Work counters accumulated over every evaluate() since construction (or reset_stats()).
   KcSvsdfStats kc_stats() const;
@@ -96,12 +104,19 @@ class SvsdfSafetyTerm : public SafetyTerm {
   /// The prefilter (header comment): masks_[i] = links point i must be evaluated for.
   void find_candidates();
   void run(Worker& worker, int index, const Trajectory& trajectory);
+  double margin_of(const ObstaclePoint& o, int link) const {
+    return (o.ground ? ground_margin_ : margin_)[static_cast<std::size_t>(link)];
+  }
 
   const RobotSdf* sdf_;
   SvsdfSafetySettings settings_;
   SweptBody body_;
   std::vector<std::unique_ptr<Worker>> workers_;
+  std::array<double, kNumLinks> margin_{};
+  std::array<double, kNumLinks> ground_margin_{};
   std::vector<ObstaclePoint> points_;
+  std::uint64_t map_key_ = 0;      ///< of the map points_ came from (0: none / set_points)
+  std::vector<TimeHints> hints_;   ///< per point: t*_j of the last evaluate()
   Eigen::AlignedBox3d grid_box_;
   Eigen::Vector3i grid_dims_ = Eigen::Vector3i::Ones();
   std::vector<int> cell_start_;    ///< CSR offsets, one per cell + 1
