@@ -103,6 +103,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
     return fail("still_max_base_m, still_max_yaw_rad and still_min_arm_rad must be >= 0");
   }
   if (!(s.densify_factor >= 1.0) || s.max_pieces_per_edge < 1) return fail("densify_factor must be >= 1 and max_pieces_per_edge >= 1");
+  if (!(s.rest_densify_factor == 0.0 || (s.rest_densify_factor > 0.0 && s.rest_densify_factor <= s.densify_factor))) {
+    return fail("rest_densify_factor must be 0 (off) or in (0, densify_factor]");
+  }
   if (!pos(s.piece_length_m) || !pos(s.piece_arm_motion_rad) || s.max_edges_per_piece < 1 ||
       !(s.piece_duration_ratio >= 1.0)) {
     return fail("piece_length_m and piece_arm_motion_rad must be > 0, max_edges_per_piece >= 1 and piece_duration_ratio >= 1");

@@ -110,6 +110,30 @@ bool split_still(Segment& seg, int k, bool at_end, const MidendSettings& st, Seg
   return true;
 }
 
+// Step 6 for one front-end edge whose length is len_b rho_b (base metric) and len_m rho_m
+// (joints): the fractions in (0, 1] of its reference nodes, the last one 1. Equal sub-edges of at
+// most densify_factor rho; a sub-edge touching a rest instant (rest_a: the edge's start, rest_b:
+// its end) is split again into equal parts of at most rest_densify_factor rho (when > 0).
+std::vector<double> densify_fractions(double len_b, double len_m, bool rest_a, bool rest_b,
+                                      const MidendSettings& st) {
+  const auto parts = [&](double len, double factor) {
+    return static_cast<int>(std::ceil(len / factor - 1e-9));
+  };
+  const double len = std::max(len_b, len_m);
+  const int m = std::clamp(parts(len, st.densify_factor), 1, st.max_pieces_per_edge);
+  const int r = st.rest_densify_factor > 0.0
+                    ? std::clamp(parts(len / m, st.rest_densify_factor), 1, st.max_pieces_per_edge)
+                    : 1;
+  std::vector<double> out;
+  for (int k = 0; k < m; ++k) {
+    const bool split = r > 1 && ((k == 0 && rest_a) || (k + 1 == m && rest_b));
+    const int n = split ? r : 1;
+    for (int j = 1; j <= n; ++j) out.push_back((k + static_cast<double>(j) / n) / m);
+  }
+  out.back() = 1.0;
+  return out;
+}
+
 // Initial time allocation over all pieces of all segments (piece order): a speed profile along
 // the base path limited by the wheel speed (v (1 + d_w |kappa| / 2) <= r omega_max, kappa from the
 // edge's heading change per metre), the joint speeds, rest at the global start and goal, v_ns at
@@ -353,9 +377,12 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
   }
 
   // 6-8. densify, allocate time, group edges into pieces.
-  const double base_step = settings.densify_factor * settings.residual_base_bound_m;
-  const double arm_step = settings.densify_factor * settings.residual_arm_bound_rad;
-  for (const Segment& s : segs) {
+  // Rest instants: the global start and goal, and the junctions with a still segment.
+  const std::size_t num_segs = segs.size();
+  for (std::size_t si = 0; si < num_segs; ++si) {
+    const Segment& s = segs[si];
+    const bool rest_front = si == 0 || s.still || segs[si - 1].still;
+    const bool rest_back = si + 1 == num_segs || s.still || segs[si + 1].still;
     ReferenceSegment r;
     r.eta = s.eta;
     r.base_still = s.still;
@@ -367,10 +394,11 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
       const double db = std::sqrt(base_distance(a, b) * base_distance(a, b) +
                                   settings.residual_yaw_weight_m2 * dyaw * dyaw);
       const double dq = (b.config.q_rad - a.config.q_rad).norm();
-      int m = static_cast<int>(std::ceil(std::max(db / base_step, dq / arm_step) - 1e-9));
-      m = std::clamp(m, 1, settings.max_pieces_per_edge);
-      for (int k = 1; k <= m; ++k) {
-        const Node n = k == m ? b : interpolate(a, b, static_cast<double>(k) / m);
+      const std::vector<double> fractions = densify_fractions(
+          db / settings.residual_base_bound_m, dq / settings.residual_arm_bound_rad,
+          i == 1 && rest_front, i + 1 == s.nodes.size() && rest_back, settings);
+      for (std::size_t k = 0; k < fractions.size(); ++k) {
+        const Node n = k + 1 == fractions.size() ? b : interpolate(a, b, fractions[k]);
         r.nodes.push_back(n.config);
       }
     }

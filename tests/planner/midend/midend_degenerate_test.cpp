@@ -121,6 +121,13 @@ TEST(MidendDegenerate, InvalidSettings) {
   const MidendResult r = make_midend(s).solve(testing::forward_with_turn(), 0.1);
   EXPECT_EQ(r.status, MidendStatus::kInvalidInput);
   EXPECT_NE(r.message.find("samples_per_piece"), std::string::npos);
+  for (const double rest : {-0.1, 1.3}) {  // 0 (off) or in (0, densify_factor = 1.2]
+    MidendSettings t;
+    t.rest_densify_factor = rest;
+    const MidendResult q = make_midend(t).solve(testing::forward_with_turn(), 0.1);
+    EXPECT_EQ(q.status, MidendStatus::kInvalidInput) << rest;
+    EXPECT_NE(q.message.find("rest_densify_factor"), std::string::npos) << q.message;
+  }
 }
 
 TEST(MidendExecution, ValidatorDecidesDirectExecution) {

@@ -22,6 +22,8 @@
 //   6. splits every edge longer than densify_factor * rho_b (base metric
 //      sqrt(|dp|^2 + w_phi dyaw^2)) or densify_factor * rho_m (joints) into equal sub-edges with
 //      linearly interpolated nodes (yaw along the shortest arc): the residual's reference nodes;
+//      with rest_densify_factor > 0 the sub-edge touching a rest instant (global start / goal,
+//      a junction with a still segment) is split again into parts of at most that factor * rho;
 //   7. allocates initial durations to every edge from a speed profile over all edges: node
 //      speeds bounded by the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <=
 //      r omega_max), the joint speeds, 0 at the global start and goal and on still segments, v_ns at gear switches,
