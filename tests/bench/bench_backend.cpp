@@ -9,8 +9,7 @@
 //                                           (straight pass through the hole, perturbed), which
 //                                           isolates the back-end from the front-end
 // Frozen fixtures: the scenes in config/, the seeds 0..N-1, the payloads of the scenes. The
-// kernel checker runs without self-collision (the shipped arm's links 3 and 5 overlap at q4 = 0
-// and the model does not allow the pair yet: every scene start would be rejected).
+// kernel checker runs with its default settings (self-collision included).
 //
 //   porter-bench-backend profile N SCENE H_B FE_BUDGET_S FIRST_SEED REPS
 //                                           per seed: obstacle points, one J_s evaluation (averaged
