@@ -31,6 +31,7 @@ KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const Ke
   for (int j = 1; j < kNumLinks; ++j) {
     const double r = kernels_.kernel_radius_m(j) / kernels_.resolution_m() + 1e-4;
     kernel_reach2_vox_[static_cast<std::size_t>(j)] = static_cast<float>(r * r);
+    kernel_reach_units_[static_cast<std::size_t>(j)] = static_cast<float>(4.0 * r);  // clearance units: h / 4
   }
 }
 
@@ -67,8 +68,8 @@ bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
   const PointTreePool& pool = kernels_.link_pool(link);
   const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
   // A sphere of kernel points is clear when every point is farther than d_j from the core set:
-  // the cell's clearance exceeds its radius + d_j (in clearance units; reach2 carries the slack).
-  const float reach_units = std::sqrt(reach2) * units_per_voxel;
+  // the cell's clearance exceeds its radius + d_j (in clearance units, with the same slack).
+  const float reach_units = kernel_reach_units_[static_cast<std::size_t>(link)];
   if (pool.tree_begin(sample) == pool.tree_end(sample)) return false;
   // The root sphere first, without composing the full transform (most links are clear).
   const PointTreeNode& root = pool.nodes()[pool.tree_begin(sample)];
@@ -99,24 +100,19 @@ CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration&
     sample[static_cast<std::size_t>(j)] = kernels_.joint_sample(j, config.q_rad[j - 1]);
     if (sample[static_cast<std::size_t>(j)] < 0) return hit(j);
   }
+  double ux = 0.0, uy = 0.0;  // base origin, padded voxel coordinates
+  if (environment) {
+    if (!base_voxel(config.base, &ux, &uy)) return hit(0);
+    if (base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(config.base.yaw_rad))) return hit(0);
+  }
   ArmPoses poses;
   kinematics_.compute(config.q_rad, poses);
   if (environment) {
-    const BasePose& base = config.base;
     const double inv_h = 1.0 / kernels_.resolution_m();
-    const double ux = (base.x_m - map_.padded_origin_W().x()) * inv_h;
-    const double uy = (base.y_m - map_.padded_origin_W().y()) * inv_h;
-    const int P = map_.padding();
-    // NaN fails both comparisons and lands here too.
-    if (!(ux >= P && ux < P + map_.grid_dims().x() && uy >= P && uy < P + map_.grid_dims().y()) ||
-        !std::isfinite(base.yaw_rad))
-      return hit(0);
-    const int bx = static_cast<int>(ux), by = static_cast<int>(uy);
-    if (base_hit(bx, by, kernels_.base_sample(base.yaw_rad))) return hit(0);
     // Base frame -> padded voxel coordinates of the map kernel: u = (T_W_B p - corner) / h. The
     // large world offset is subtracted in double before rounding to float.
     float sy = 0.f, cy = 1.f;
-    fast_sincos(base.yaw_rad, &sy, &cy);
+    fast_sincos(config.base.yaw_rad, &sy, &cy);
     Pose4f T_V_B;
     const float c = cy * static_cast<float>(inv_h), s = sy * static_cast<float>(inv_h);
     T_V_B.c0 = v4f{c, s, 0.f, 0.f};
@@ -151,15 +147,20 @@ CollisionResult KernelCollisionChecker::check_self(const JointVector& q_rad) con
 
 CollisionResult KernelCollisionChecker::check_base(const BasePose& base) const {
   if (!map_.has_map()) return hit(0);
-  const double inv_h = 1.0 / kernels_.resolution_m();
-  const double ux = (base.x_m - map_.padded_origin_W().x()) * inv_h;
-  const double uy = (base.y_m - map_.padded_origin_W().y()) * inv_h;
-  const int P = map_.padding();
-  if (!(ux >= P && ux < P + map_.grid_dims().x() && uy >= P && uy < P + map_.grid_dims().y()) ||
-      !std::isfinite(base.yaw_rad))
-    return hit(0);
+  double ux = 0.0, uy = 0.0;
+  if (!base_voxel(base, &ux, &uy)) return hit(0);
   if (base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(base.yaw_rad))) return hit(0);
   return CollisionResult{};
+}
+
+bool KernelCollisionChecker::base_voxel(const BasePose& base, double* ux, double* uy) const {
+  const double inv_h = 1.0 / kernels_.resolution_m();
+  *ux = (base.x_m - map_.padded_origin_W().x()) * inv_h;
+  *uy = (base.y_m - map_.padded_origin_W().y()) * inv_h;
+  const int P = map_.padding();
+  // NaN fails both comparisons and lands here too.
+  return *ux >= P && *ux < P + map_.grid_dims().x() && *uy >= P && *uy < P + map_.grid_dims().y() &&
+         std::isfinite(base.yaw_rad);
 }
 
 KernelStorage KernelCollisionChecker::storage() const {

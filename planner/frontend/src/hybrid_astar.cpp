@@ -7,6 +7,8 @@
 #include <queue>
 #include <random>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "base_motion.hpp"
 #include "porter/core/kinematics.hpp"
@@ -45,7 +47,8 @@ HybridAStar::HybridAStar(const RobotModel& model, const planner::CollisionChecke
                          HybridAStarSettings settings)
     : model_(model), checker_(checker), settings_(settings),
       radius_m_(std::max(settings.turning_radius_m, model.base.min_turning_radius_m)),
-      disc_(base_inscribed_disc(model)), rs_(std::make_unique<ReedsShepp>(radius_m_)) {}
+      disc_(base_inscribed_disc(model)), rs_(std::make_unique<ReedsShepp>(radius_m_)),
+      narrow_candidates_(narrow_shape_candidates()) {}
 
 HybridAStar::~HybridAStar() = default;
 
@@ -82,13 +85,12 @@ struct OpenItem {
 
 }  // namespace
 
-std::optional<JointVector> HybridAStar::narrow_shape(const BasePose& at, StageReport& rep) const {
-  // Seeded from the settings only: the same shape for every plan() of this object.
+std::vector<JointVector> HybridAStar::narrow_shape_candidates() const {
+  // Seeded from the settings only: the same candidates for every plan() of this object.
   std::mt19937_64 rng(0x6a09e667f3bcc909ull);
   const JointVector lo = model_.lower_limits(), hi = model_.upper_limits();
   KinematicsWorkspace ws;
-  std::optional<JointVector> best;
-  double best_width = std::numeric_limits<double>::infinity();
+  std::vector<std::pair<double, JointVector>> drawn;
   for (int d = 0; d < settings_.narrow_shape_draws; ++d) {
     RobotConfiguration c{BasePose{}, JointVector::Zero()};
     for (int j = 0; j < kNumArmJoints; ++j) c.q_rad[j] = std::uniform_real_distribution<double>(lo[j], hi[j])(rng);
@@ -100,14 +102,20 @@ std::optional<JointVector> HybridAStar::narrow_shape(const BasePose& at, StageRe
       const Eigen::Vector3d p = ws.T_W_L[static_cast<std::size_t>(l)] * link.bounding_center;
       width = std::max(width, std::abs(p.y()) + link.bounding_radius_m);
     }
-    if (width >= best_width) continue;
-    c.base = at;
-    ++rep.collision_checks;
-    if (checker_.check(c)) continue;  // must at least fit where the robot starts
-    best_width = width;
-    best = c.q_rad;
+    drawn.emplace_back(width, c.q_rad);
   }
-  return best;
+  std::stable_sort(drawn.begin(), drawn.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  std::vector<JointVector> out;
+  for (const auto& d : drawn) out.push_back(d.second);
+  return out;
+}
+
+std::optional<JointVector> HybridAStar::narrow_shape(const BasePose& at, StageReport& rep) const {
+  for (const JointVector& q : narrow_candidates_) {
+    ++rep.collision_checks;
+    if (!checker_.check(RobotConfiguration{at, q})) return q;  // must at least fit where the robot starts
+  }
+  return std::nullopt;
 }
 
 HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const RobotConfiguration& goal,

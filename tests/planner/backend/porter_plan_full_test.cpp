@@ -3,42 +3,19 @@
 // trajectory in collision goes to the back-end, whose section, final re-check and trajectory are
 // in the JSON result; the same seed gives the same result.
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
-
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+
+#include "plan_cli_test.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-class PorterPlanFull : public ::testing::Test {
+class PorterPlanFull : public porter::test::PlanCliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("porter_plan_full_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  int run(const std::string& args, const std::string& tag = "") const {
-    const std::string cmd = std::string(PORTER_PLAN_EXE) + " " + args + " > " + (dir_ / ("stdout" + tag)).string() +
-                            " 2> " + (dir_ / ("stderr" + tag)).string();
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string file(const std::string& name) const {
-    std::ifstream in(dir_ / name);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
   static std::string scene(const std::string& name) {
     return std::string(PORTER_SOURCE_DIR) + "/config/scenes/" + name + ".yaml";
   }
@@ -49,29 +26,27 @@ class PorterPlanFull : public ::testing::Test {
            " --midend-budget-ms 20000 --backend-budget-ms 120000 --backend-iterations 3 --out " +
            (dir_ / out).string() + " " + extra;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   const std::string base = "--scene " + scene("empty") + " --stages full ";
   EXPECT_EQ(run(base + "--safety spheres"), 2);
-  EXPECT_NE(file("stderr").find("--safety: expected kc_svsdf or svsdf_per_link, got 'spheres'"), std::string::npos)
-      << file("stderr");
+  EXPECT_NE(file("stderr.txt").find("--safety: expected kc_svsdf or svsdf_per_link, got 'spheres'"), std::string::npos)
+      << file("stderr.txt");
   EXPECT_EQ(run(base + "--collision octomap"), 2);
-  EXPECT_NE(file("stderr").find("--collision: expected kernels or spheres, got 'octomap'"), std::string::npos)
-      << file("stderr");
+  EXPECT_NE(file("stderr.txt").find("--collision: expected kernels or spheres, got 'octomap'"), std::string::npos)
+      << file("stderr.txt");
   EXPECT_EQ(run(base + "--safety"), 2);
-  EXPECT_NE(file("stderr").find("--safety needs a value"), std::string::npos);
+  EXPECT_NE(file("stderr.txt").find("--safety needs a value"), std::string::npos);
   EXPECT_EQ(run(base + "--backend-budget-ms -1"), 2);
-  EXPECT_NE(file("stderr").find("--backend-budget-ms must be > 0"), std::string::npos);
+  EXPECT_NE(file("stderr.txt").find("--backend-budget-ms must be > 0"), std::string::npos);
   EXPECT_EQ(run(base + "--midend-budget-ms abc"), 2);
   EXPECT_EQ(run(base + "--backend-iterations 0"), 2);
   // The sphere baseline brings its own back-end term: an explicit --safety contradicts it.
   EXPECT_EQ(run(base + "--collision spheres --safety kc_svsdf"), 2);
-  EXPECT_NE(file("stderr").find("--safety does not apply with --collision spheres"), std::string::npos);
+  EXPECT_NE(file("stderr.txt").find("--safety does not apply with --collision spheres"), std::string::npos);
   // Valid values parse (nothing collides in the empty scene: no back-end, exit 0).
-  EXPECT_EQ(run(base + "--safety svsdf_per_link --out " + (dir_ / "e.json").string()), 0) << file("stderr");
+  EXPECT_EQ(run(base + "--safety svsdf_per_link --out " + (dir_ / "e.json").string()), 0) << file("stderr.txt");
   const auto doc = nlohmann::json::parse(file("e.json"));
   EXPECT_EQ(doc["format"], "porter-plan-result/2");
   EXPECT_EQ(doc["safety"], "svsdf_per_link");
@@ -82,7 +57,7 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
 
 TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
   const int code = run(bridge_full("a.json"), "a");
-  ASSERT_TRUE(code == 0 || code == 1) << code << file("stderra");
+  ASSERT_TRUE(code == 0 || code == 1) << code << file("stderra.txt");
   const auto doc = nlohmann::json::parse(file("a.json"));
   ASSERT_EQ(doc["frontend"]["status"], "success") << "the fixture needs a front-end path";
   ASSERT_EQ(doc["midend"]["direct_execution"], false) << "the fixture needs a mid-end trajectory in collision";
@@ -109,7 +84,7 @@ TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
   ASSERT_TRUE(doc["trajectory"].is_object());
   EXPECT_EQ(doc["trajectory"]["pieces"].size(), be["num_pieces"].get<std::size_t>());
   // One summary line per stage.
-  const std::string out = file("stdouta");
+  const std::string out = file("stdouta.txt");
   EXPECT_EQ(out.rfind("front-end: success", 0), 0u) << out;
   EXPECT_NE(out.find("\nmid-end: "), std::string::npos) << out;
   EXPECT_NE(out.find("\nback-end: iteration limit reached"), std::string::npos) << out;
@@ -126,7 +101,7 @@ TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
 
   // The ablation baseline on the same warm start: same flags, another term.
   const int per_link = run(bridge_full("c.json", "--safety svsdf_per_link"), "c");
-  ASSERT_TRUE(per_link == 0 || per_link == 1) << file("stderrc");
+  ASSERT_TRUE(per_link == 0 || per_link == 1) << file("stderrc.txt");
   const auto ablation = nlohmann::json::parse(file("c.json"));
   EXPECT_EQ(ablation["backend"]["safety_model"], "svsdf_per_link");
   EXPECT_EQ(ablation["midend"]["evaluations"], doc["midend"]["evaluations"]);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "collision_test_utils.hpp"
+#include "tbar_checker_suite.hpp"
 #include "porter/core/kinematics.hpp"
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
@@ -31,56 +32,36 @@ OccupancyGrid grid_with(const std::vector<CollisionShape>& obstacles, const Eige
 
 const Eigen::AlignedBox3d kRoom(Eigen::Vector3d(-3, -3, 0), Eigen::Vector3d(3, 3, 2.5));
 
-RobotConfiguration carrying(double x, double y, double yaw) {
-  RobotConfiguration c;
-  c.base = {x, y, yaw};
-  c.q_rad << 0.0, 0.6, -0.9, 0.0, 0.5, 0.0;
-  return c;
-}
 
-class CheckerCases : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    model_ = new RobotModel(test::shipped_robot_with("t_bar"));
-    checker_ = new KernelCollisionChecker(*model_);
-  }
-  static void TearDownTestSuite() {
-    delete checker_;
-    delete model_;
-  }
-  static RobotModel* model_;
-  static KernelCollisionChecker* checker_;
-};
-RobotModel* CheckerCases::model_ = nullptr;
-KernelCollisionChecker* CheckerCases::checker_ = nullptr;
+class CheckerCases : public test::TBarCheckerSuite {};
 
 TEST_F(CheckerCases, NoMapMeansCollision) {
   const KernelCollisionChecker fresh(*model_);
-  EXPECT_TRUE(fresh.check(carrying(0, 0, 0)).in_collision);
+  EXPECT_TRUE(fresh.check(test::carrying(0, 0, 0)).in_collision);
   EXPECT_TRUE(fresh.check_base({0, 0, 0}).in_collision);
   EXPECT_EQ(fresh.name(), "kernels");
 }
 
 TEST_F(CheckerCases, MapEdgesGroundAndLimits) {
   checker_->set_map(grid_with({}, kRoom));
-  EXPECT_FALSE(checker_->check(carrying(0, 0, 0.3)).in_collision);
+  EXPECT_FALSE(checker_->check(test::carrying(0, 0, 0.3)).in_collision);
   EXPECT_FALSE(checker_->check_base({0, 0, 0.3}).in_collision);
   // The base origin outside the map, or the base sticking out of it.
-  EXPECT_EQ(checker_->check(carrying(3.2, 0, 0)).link, 0);
+  EXPECT_EQ(checker_->check(test::carrying(3.2, 0, 0)).link, 0);
   EXPECT_EQ(checker_->check_base({-3.05, 0, 0}).link, 0);
   EXPECT_EQ(checker_->check_base({2.8, 0, 0}).link, 0);  // front 0.32 m beyond x = 3
   EXPECT_FALSE(checker_->check_base({2.5, 0, 0}).in_collision);
   EXPECT_EQ(checker_->check_base({0, 2.85, 0}).link, 0);
   // Far corner of the padding: every kernel point stays inside the padded array.
-  EXPECT_TRUE(checker_->check(carrying(2.999, 2.999, 0.785)).in_collision);
-  EXPECT_TRUE(checker_->check(carrying(-3.0, -3.0, -2.356)).in_collision);
+  EXPECT_TRUE(checker_->check(test::carrying(2.999, 2.999, 0.785)).in_collision);
+  EXPECT_TRUE(checker_->check(test::carrying(-3.0, -3.0, -2.356)).in_collision);
   // NaN and joint limits.
-  EXPECT_TRUE(checker_->check(carrying(std::nan(""), 0, 0)).in_collision);
-  RobotConfiguration bad = carrying(0, 0, 0);
+  EXPECT_TRUE(checker_->check(test::carrying(std::nan(""), 0, 0)).in_collision);
+  RobotConfiguration bad = test::carrying(0, 0, 0);
   bad.q_rad[2] = 0.5;  // joint 3 limits are [-2.967, 0]
   EXPECT_EQ(checker_->check(bad).link, 3);
   // The arm pointing down into the ground: links other than the base must stay above z = 0.
-  RobotConfiguration down = carrying(0, 0, 0);
+  RobotConfiguration down = test::carrying(0, 0, 0);
   down.q_rad << 0.0, 1.57, -0.2, 0.0, 1.2, 0.0;
   KinematicsWorkspace ws;
   forward_kinematics(*model_, down, ws);
@@ -104,7 +85,7 @@ TEST_F(CheckerCases, SafetyMarginAgainstTheReference) {
     int hits = 0, misses = 0;
     for (double y = -0.1; y <= 0.35; y += 0.0071) {
       const BasePose b{0.013, y, 0.0};
-      RobotConfiguration c = carrying(b.x_m, b.y_m, b.yaw_rad);
+      RobotConfiguration c = test::carrying(b.x_m, b.y_m, b.yaw_rad);
       KinematicsWorkspace ws;
       forward_kinematics(*model_, c, ws);
       const bool ref = reference.link_collides(*model_, ws, 0);
@@ -126,7 +107,7 @@ TEST_F(CheckerCases, SafetyMarginAgainstTheReference) {
 TEST_F(CheckerCases, MapUpdatesMatchAFreshChecker) {
   OccupancyGrid grid = grid_with({box_at({1.5, 0.0, 1.0}, {0.2, 2.0, 2.0})}, kRoom);
   checker_->set_map(grid);
-  const RobotConfiguration c = carrying(0.0, 0.0, 0.0);
+  const RobotConfiguration c = test::carrying(0.0, 0.0, 0.0);
   EXPECT_FALSE(checker_->check(c).in_collision);
   // A pillar appears next to the robot: the next map (same lattice) is an incremental update.
   const OccupancyGrid pillar =

@@ -4,6 +4,7 @@
 #include <random>
 
 #include "collision_test_utils.hpp"
+#include "tbar_checker_suite.hpp"
 #include "porter/core/kinematics.hpp"
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/core/trajectory.hpp"
@@ -27,56 +28,36 @@ OccupancyGrid room_with(const std::vector<CollisionShape>& obstacles) {
   return voxelize(scene);
 }
 
-RobotConfiguration pose(double x, double y, double yaw, double q1 = 0.0) {
-  RobotConfiguration c;
-  c.base = {x, y, yaw};
-  c.q_rad << q1, 0.6, -0.9, 0.0, 0.5, 0.0;
-  return c;
-}
 
-class MotionTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    model_ = new RobotModel(test::shipped_robot_with("t_bar"));
-    checker_ = new KernelCollisionChecker(*model_);
-  }
-  static void TearDownTestSuite() {
-    delete checker_;
-    delete model_;
-  }
-  static RobotModel* model_;
-  static KernelCollisionChecker* checker_;
-};
-RobotModel* MotionTest::model_ = nullptr;
-KernelCollisionChecker* MotionTest::checker_ = nullptr;
+class MotionTest : public test::TBarCheckerSuite {};
 
 TEST_F(MotionTest, ThinColumnCrossedByTheBaseIsCaught) {
   checker_->set_map(room_with({column(1.0, 0.0, 0.015)}));  // 3 cm: one or two voxels wide
-  const RobotConfiguration from = pose(-0.5, 0.0, 0.0), to = pose(2.5, 0.0, 0.0);
+  const RobotConfiguration from = test::carrying(-0.5, 0.0, 0.0), to = test::carrying(2.5, 0.0, 0.0);
   ASSERT_FALSE(checker_->check(from).in_collision);
   ASSERT_FALSE(checker_->check(to).in_collision);
   EXPECT_TRUE(checker_->check_motion(from, to).in_collision);
   EXPECT_TRUE(checker_->check_motion(to, from).in_collision);
   // Beside the column: free.
-  EXPECT_FALSE(checker_->check_motion(pose(-0.5, -1.8, 0.0), pose(2.5, -1.8, 0.0)).in_collision);
+  EXPECT_FALSE(checker_->check_motion(test::carrying(-0.5, -1.8, 0.0), test::carrying(2.5, -1.8, 0.0)).in_collision);
 }
 
 TEST_F(MotionTest, ThinColumnSweptByThePayloadIsCaught) {
   // The base stays put; joint 1 swings the T bar through a column beside the robot.
-  const RobotConfiguration a = pose(0.0, 0.0, 0.0, -1.2), b = pose(0.0, 0.0, 0.0, 1.2);
+  const RobotConfiguration a = test::carrying(0.0, 0.0, 0.0, -1.2), b = test::carrying(0.0, 0.0, 0.0, 1.2);
   KinematicsWorkspace ws;
-  forward_kinematics(*model_, pose(0.0, 0.0, 0.0, 0.0), ws);
+  forward_kinematics(*model_, test::carrying(0.0, 0.0, 0.0, 0.0), ws);
   const Eigen::Vector3d tip = ws.T_W_L[kEndEffectorLink] * Eigen::Vector3d(0.0, 0.0, 0.3);  // along the stem
   checker_->set_map(room_with({column(tip.x(), tip.y(), 0.015)}));
   ASSERT_FALSE(checker_->check(a).in_collision);
   ASSERT_FALSE(checker_->check(b).in_collision);
-  ASSERT_TRUE(checker_->check(pose(0.0, 0.0, 0.0, 0.0)).in_collision);
+  ASSERT_TRUE(checker_->check(test::carrying(0.0, 0.0, 0.0, 0.0)).in_collision);
   EXPECT_TRUE(checker_->check_motion(a, b).in_collision);
 }
 
 TEST_F(MotionTest, SamplesRespectTheStepBound) {
   checker_->set_map(room_with({}));
-  const RobotConfiguration a = pose(-1.0, 0.3, 3.0, -1.0), b = pose(0.5, -0.4, -2.9, 0.8);
+  const RobotConfiguration a = test::carrying(-1.0, 0.3, 3.0, -1.0), b = test::carrying(0.5, -0.4, -2.9, 0.8);
   const int n = checker_->motion_intervals(a, b);
   ASSERT_GT(n, 10);
   // Measure the largest displacement of the links' shape vertices between neighbouring samples.

@@ -1,29 +1,25 @@
 // porter-plan end to end: exit codes for bad arguments, unreadable files and invalid starts, and
 // the JSON result of a successful plan. (--stages full with a back-end: tests/planner/backend.)
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "frontend_test_utils.hpp"
+#include "plan_cli_test.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-class PorterPlan : public ::testing::Test {
+class PorterPlan : public porter::test::PlanCliTest {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("porter_plan_test_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
+    PlanCliTest::SetUp();
     // A copy of the shipped robot config (URDF path made absolute), for --robot.
     std::ifstream in(porter::test::robot_yaml());
     std::stringstream text;
@@ -34,24 +30,8 @@ class PorterPlan : public ::testing::Test {
                   "urdf: " + porter::test::source_dir() + "/config/robots/scout_mini_piper/scout_mini_piper.urdf");
     std::ofstream(dir_ / "robot.yaml") << robot;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  int run(const std::string& args) const {
-    const std::string cmd = std::string(PORTER_PLAN_EXE) + " " + args + " > " + (dir_ / "stdout.txt").string() + " 2> " +
-                            (dir_ / "stderr.txt").string();
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string file(const std::string& name) const {
-    std::ifstream in(dir_ / name);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
   std::string robot() const { return (dir_ / "robot.yaml").string(); }
   std::string scene(const std::string& name) const { return porter::test::scene_yaml(name); }
-
-  fs::path dir_;
 };
 
 TEST_F(PorterPlan, BadArgumentsAreExitCode2) {

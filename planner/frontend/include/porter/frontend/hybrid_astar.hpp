@@ -122,7 +122,9 @@ class HybridAStar {
 
  private:
   struct Search;
-  /// The narrowest of settings_.narrow_shape_draws seeded arm configurations fitting at `at`.
+  /// settings_.narrow_shape_draws seeded arm configurations, narrowest first (built once).
+  std::vector<JointVector> narrow_shape_candidates() const;
+  /// The narrowest candidate fitting at `at`.
   std::optional<JointVector> narrow_shape(const BasePose& at, StageReport& rep) const;
 
   const RobotModel& model_;
@@ -138,6 +140,7 @@ class HybridAStar {
   std::vector<std::int32_t> cell_node_;
   std::uint32_t generation_ = 0;
   std::unique_ptr<ReedsShepp> rs_;
+  std::vector<JointVector> narrow_candidates_;
 };
 
 }  // namespace porter::frontend

@@ -102,6 +102,9 @@ class KernelCollisionChecker final : public CollisionChecker {
 
  private:
   bool base_hit(int bx, int by, int yaw_sample) const;
+  /// Base origin in padded voxel coordinates; false when it is outside the grid horizontally or
+  /// a value is NaN.
+  bool base_voxel(const BasePose& base, double* ux, double* uy) const;
   bool link_hit(int link, int sample, const Pose4f& T_V_B, const Pose4f& T_B_J) const;
   CollisionResult check_prepared(const RobotConfiguration& config, bool environment, bool self) const;
 
@@ -112,7 +115,8 @@ class KernelCollisionChecker final : public CollisionChecker {
   MapKernel map_;
   MapUpdateStats last_update_;
   double motion_step_m_ = 0.0;
-  std::array<float, kNumLinks> kernel_reach2_vox_{};  ///< (d_j / h)^2 per link, for MapKernel::arm_near
+  std::array<float, kNumLinks> kernel_reach2_vox_{};   ///< (d_j / h)^2 per link, for MapKernel::arm_near
+  std::array<float, kNumLinks> kernel_reach_units_{};  ///< d_j in clearance units (h / 4) per link
 };
 
 }  // namespace porter::planner
