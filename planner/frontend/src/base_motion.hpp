@@ -1,10 +1,12 @@
 #pragma once
 // Internal: base-only collision checks along arcs and chords (Hybrid A*, shots).
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "porter/core/robot_model.hpp"
 #include "porter/frontend/reeds_shepp.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
 
@@ -16,10 +18,26 @@ inline BasePose lerp_pose(const BasePose& a, const BasePose& b, double t) {
           wrap_angle(a.yaw_rad + t * wrap_angle(b.yaw_rad - a.yaw_rad))};
 }
 
+/// Largest horizontal distance of the base geometry (link 0's bounds) from the base origin: a
+/// yaw change dyaw moves no base point more than this times |dyaw|.
+inline double base_reach_m(const RobotModel& model) {
+  const Eigen::AlignedBox3d& b = model.links[0].bounds;
+  if (b.isEmpty()) return 0.0;
+  const double x = std::max(std::abs(b.min().x()), std::abs(b.max().x()));
+  const double y = std::max(std::abs(b.min().y()), std::abs(b.max().y()));
+  return std::hypot(x, y);
+}
+
+/// Samples needed so that no base point moves more than step_m between neighbours: the
+/// translation plus reach times the heading change (a turning primitive swings the corners).
+inline int base_motion_samples(double length_m, double dyaw_rad, double reach_m, double step_m) {
+  return std::max(1, static_cast<int>(std::ceil((std::abs(length_m) + reach_m * std::abs(dyaw_rad)) / step_m)));
+}
+
 /// Checks the base at the interior and end samples of the arc (the start is assumed checked).
 inline bool base_arc_free(const planner::CollisionChecker& checker, const BasePose& from, double kappa,
-                          double signed_length_m, double step_m, std::int64_t* checks) {
-  const int n = std::max(1, static_cast<int>(std::ceil(std::abs(signed_length_m) / step_m - 1e-9)));
+                          double signed_length_m, double reach_m, double step_m, std::int64_t* checks) {
+  const int n = base_motion_samples(signed_length_m, kappa * signed_length_m, reach_m, step_m);
   for (int k = n; k >= 1; --k) {  // end first: it is the likeliest to fail
     ++*checks;
     if (checker.check_base(drive_arc(from, kappa, signed_length_m * k / n))) return false;
@@ -27,11 +45,15 @@ inline bool base_arc_free(const planner::CollisionChecker& checker, const BasePo
   return true;
 }
 
-/// Checks the base at interior samples of the straight chord a -> b (ends assumed checked).
+/// Checks the base at interior samples of the straight chord a -> b (ends assumed checked), at
+/// i / n, i = 1..n-1, n = base_motion_samples(|dxy|, dyaw, reach_m, step_m). With reach_m the
+/// whole body's reach (ChainRadii::reach_m) and step_m the kernel checker's motion step, these
+/// are the base poses KernelCollisionChecker::check_motion() samples when the arm is held, so a
+/// chord accepted here never fails there on the base alone.
 inline bool base_chord_free(const planner::CollisionChecker& checker, const BasePose& a, const BasePose& b,
-                            double step_m, std::int64_t* checks) {
-  const double len = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m);
-  const int n = static_cast<int>(std::ceil(len / step_m - 1e-9));
+                            double reach_m, double step_m, std::int64_t* checks) {
+  const int n = base_motion_samples(std::hypot(b.x_m - a.x_m, b.y_m - a.y_m), wrap_angle(b.yaw_rad - a.yaw_rad),
+                                    reach_m, step_m);
   for (int k = 1; k < n; ++k) {
     ++*checks;
     if (checker.check_base(lerp_pose(a, b, static_cast<double>(k) / n))) return false;

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "base_motion.hpp"
+#include "porter/planner/collision/kernel_kinematics.hpp"
 #include "porter/core/kinematics.hpp"
 #include "porter/frontend/deadline.hpp"
 
@@ -47,7 +48,9 @@ HybridAStar::HybridAStar(const RobotModel& model, const planner::CollisionChecke
                          HybridAStarSettings settings)
     : model_(model), checker_(checker), settings_(settings),
       radius_m_(std::max(settings.turning_radius_m, model.base.min_turning_radius_m)),
-      disc_(base_inscribed_disc(model)), rs_(std::make_unique<ReedsShepp>(radius_m_)),
+      disc_(base_inscribed_disc(model)), base_reach_m_(detail::base_reach_m(model)),
+      chord_reach_m_(planner::compute_chain_radii(model).reach_m),
+      rs_(std::make_unique<ReedsShepp>(radius_m_)),
       narrow_candidates_(narrow_shape_candidates()) {}
 
 HybridAStar::~HybridAStar() = default;
@@ -183,7 +186,8 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
     shot.clear();
     sample_rs_path(from, path, s.step_length_m, &shot);
     for (std::size_t i = 1; i < shot.size(); ++i) {
-      if (!detail::base_chord_free(checker_, shot[i - 1].pose, shot[i].pose, s.collision_step_m, &rep.collision_checks))
+      if (!detail::base_chord_free(checker_, shot[i - 1].pose, shot[i].pose, chord_reach_m_, s.collision_step_m,
+                                   &rep.collision_checks))
         return false;
     }
     return true;
@@ -250,9 +254,11 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
         if (cur_eta != 0 && eta != cur_eta) g += s.gear_switch_cost_m;
         if (cur_eta != 0) g += s.steering_change_cost * std::abs(k - cur_steer) / static_cast<double>(half);
         if (existing >= 0 && nodes[static_cast<std::size_t>(existing)].g <= g) continue;
-        if (!detail::base_arc_free(checker_, cur_pose, kappa, len, s.collision_step_m, &rep.collision_checks))
+        if (!detail::base_arc_free(checker_, cur_pose, kappa, len, base_reach_m_, s.collision_step_m,
+                                   &rep.collision_checks))
           continue;
-        if (k != 0 && !detail::base_chord_free(checker_, cur_pose, next, s.collision_step_m, &rep.collision_checks))
+        if (k != 0 && !detail::base_chord_free(checker_, cur_pose, next, chord_reach_m_, s.collision_step_m,
+                                               &rep.collision_checks))
           continue;  // a straight primitive's chord is its arc
         if (arm_blocked(next)) g += s.arm_blocked_cost_factor * s.step_length_m;
         if (existing >= 0 && nodes[static_cast<std::size_t>(existing)].g <= g) continue;

@@ -25,7 +25,7 @@ bool validate_settings(const LayeredArmSettings& s, std::string* why) {
   if (!(s.corridor_target_bias >= 0.0 && s.corridor_target_bias <= 1.0)) return bad("corridor_target_bias");
   if (s.corridor_draws < 1) return bad("corridor_draws");
   if (s.max_corridor_targets < 0) return bad("max_corridor_targets");
-  if (s.corridor_margin_layers < 0) return bad("corridor_margin_layers");
+  if (!(s.corridor_margin_m >= 0.0)) return bad("corridor_margin_m");
   if (s.chain_retries < 0) return bad("chain_retries");
   if (s.frontier_window < 1) return bad("frontier_window");
   if (s.max_parent_candidates < 1) return bad("max_parent_candidates");

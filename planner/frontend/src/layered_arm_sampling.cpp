@@ -111,10 +111,22 @@ void LayeredArmSearch::find_stretches() {
   for (int l = 1; l < n_ - 1; ++l) {
     const bool blocked = !node_free(l, p_.q_start) && (same || !node_free(l, p_.q_goal));
     if (blocked && open < 0) open = l;
-    if (!blocked && open >= 0) stretches_.push_back({open, l - 1, {}});
+    if (!blocked && open >= 0) stretches_.push_back({open, l - 1, 0, 0, {}});
     if (!blocked) open = -1;
   }
-  if (open >= 0) stretches_.push_back({open, n_ - 2, {}});
+  if (open >= 0) stretches_.push_back({open, n_ - 2, 0, 0, {}});
+  // The margin: layers within corridor_margin_m of base travel before and after the stretch.
+  auto gap = [&](int a, int b) {
+    const BasePose& p = p_.bases[static_cast<std::size_t>(a)];
+    const BasePose& q = p_.bases[static_cast<std::size_t>(b)];
+    return std::hypot(q.x_m - p.x_m, q.y_m - p.y_m);
+  };
+  for (Stretch& st : stretches_) {
+    st.lo = st.first;
+    for (double d = 0.0; st.lo > 1 && (d += gap(st.lo - 1, st.lo)) <= s_.corridor_margin_m + 1e-9;) --st.lo;
+    st.hi = st.last;
+    for (double d = 0.0; st.hi < n_ - 2 && (d += gap(st.hi, st.hi + 1)) <= s_.corridor_margin_m + 1e-9;) ++st.hi;
+  }
 }
 
 /// For a random blocked stretch: draws configurations until one is free at every layer of the
@@ -128,8 +140,7 @@ bool LayeredArmSearch::corridor_step() {
   Stretch& st = stretches_[std::uniform_int_distribution<std::size_t>(0, stretches_.size() - 1)(rng_)];
   if (static_cast<int>(st.targets.size()) < s_.max_corridor_targets && (st.targets.empty() || u01(rng_) < 0.25)) {
     // The shape must also fit a margin around the stretch: the payload can reach past the base.
-    const int lo = std::max(1, st.first - s_.corridor_margin_layers);
-    const int hi = std::min(n_ - 2, st.last + s_.corridor_margin_layers);
+    const int lo = st.lo, hi = st.hi;
     const int mid = (st.first + st.last) / 2;
     for (int draw = 0; draw < s_.corridor_draws; ++draw) {
       const JointVector q = sample_q();

@@ -36,6 +36,7 @@ class LayeredArmSearch {
   /// A run of layers where neither the start's nor the goal's arm configuration fits.
   struct Stretch {
     int first = 0, last = 0;           // layers
+    int lo = 0, hi = 0;                // layers a corridor configuration must fit (margin added)
     std::vector<JointVector> targets;  // configurations free through the whole stretch
   };
 

@@ -9,6 +9,7 @@
 #include "exact_checker.hpp"
 #include "frontend_test_utils.hpp"
 #include "porter/frontend/frontend.hpp"
+#include "porter/frontend/hybrid_astar.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 #include "test_scenes.hpp"
 
@@ -76,6 +77,37 @@ TEST(FrontendScenes, Forest) {
   o.seed = 3;
   SceneFixture f(load_scene(test::scene_yaml("forest"), o));
   f.expect_valid(f.plan(3));
+}
+
+// Hybrid A*'s chords are accepted at the base poses the kernel motion check visits when the arm
+// is held (same count, same fractions): an arm edge between two layers never fails on the base
+// alone. Forest seeds 1 and 3 had a chord that grazed a trunk between sparser base samples, and
+// every arm edge across it failed (the layered search could not connect).
+TEST(FrontendScenes, ForestChordsPassTheBaseSamplesOfAHeldArmMotionCheck) {
+  for (const std::uint64_t seed : {1u, 3u}) {
+    SceneLoadOptions o;
+    o.seed = seed;
+    SceneFixture f(load_scene(test::scene_yaml("forest"), o));
+    HybridAStar planner(f.model, f.kernel);
+    planner.set_map(f.grid);
+    const HybridAStarResult r = planner.plan(f.scene.start, f.scene.goal, 600.0);
+    ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+    int turning = 0;
+    for (std::size_t i = 1; i < r.path.size(); ++i) {
+      const RobotConfiguration a{r.path[i - 1].pose, f.scene.start.q_rad}, b{r.path[i].pose, f.scene.start.q_rad};
+      const int n = f.kernel.motion_intervals(a, b);
+      ASSERT_GE(n, 1);
+      const double dyaw = wrap_angle(b.base.yaw_rad - a.base.yaw_rad);
+      turning += std::abs(dyaw) > 1e-6;
+      for (int k = 1; k < n; ++k) {
+        const double t = static_cast<double>(k) / n;
+        const BasePose m{a.base.x_m + t * (b.base.x_m - a.base.x_m), a.base.y_m + t * (b.base.y_m - a.base.y_m),
+                         a.base.yaw_rad + t * dyaw};
+        EXPECT_FALSE(f.kernel.check_base(m).in_collision) << "seed " << seed << " chord " << i << " sample " << k;
+      }
+    }
+    EXPECT_GT(turning, 5) << "seed " << seed << ": the path should turn around the trunks";
+  }
 }
 
 TEST(FrontendScenes, WalledOffGoalIsNoPathWithTheKernelChecker) {

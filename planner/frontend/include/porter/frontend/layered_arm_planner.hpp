@@ -42,12 +42,15 @@ struct LayeredArmSettings {
   /// Fraction of each joint's velocity limit an edge may use over its layer time (0 .. 1].
   double arm_speed_fraction = 0.8;
   /// Probability of a greedy chain (RRT-Connect's connect step) [0, 1].
-  double goal_bias = 0.3;
+  double goal_bias = 0.45;
   /// Share of those chains that hold the starting node's configuration instead of heading for
   /// the other tree's frontier [0, 1].
   double hold_bias = 0.5;
   /// Probability of a local step: a node's configuration with one or two joints re-drawn
-  /// (goal_bias + local_bias <= 1; the rest are uniform samples).
+  /// (goal_bias + local_bias <= 1; the rest are uniform samples). With the defaults, 0.45 / 0.4
+  /// and corridor_bias 0.15, uniform samples are drawn only when there is no blocked stretch:
+  /// they helped least (bridge h_b = 0.8 m, 100 seeds, p97 front-end time 120 -> 60 ms when the
+  /// uniform share went from 0.15 to 0).
   double local_bias = 0.4;
   /// Probability of a corridor step when there are blocked stretches (layers where neither the
   /// start's nor the goal's arm configuration fits): it draws configurations until one fits the
@@ -57,12 +60,14 @@ struct LayeredArmSettings {
   /// Configurations drawn per corridor step (>= 1); one that fits every layer of the stretch
   /// and the held motion through it becomes a corridor configuration.
   int corridor_draws = 200;
-  /// Layers on each side of a stretch that a corridor configuration must fit as well (>= 0):
-  /// the payload reaches past the base, so the shape has to be held longer. 3 layers of the
-  /// default 0.25 m step cover the T bar held ~0.8 m behind the base's origin. Measured on
-  /// bridge h_b = 0.8 m, 40 seeds: solved by the layered search within 1000 / 2000 iterations
-  /// 30 / 34 with a margin of 1, 36 / 38 with 3 (forest unchanged).
-  int corridor_margin_layers = 3;
+  /// Base travel on each side of a stretch over which a corridor configuration must fit as well
+  /// (m, >= 0): the payload reaches past the base, so the shape has to be held longer (the
+  /// layers within this distance of the stretch along the base path are added). Measured on
+  /// bridge, 100 seeds, 3 s budget, p97 of the front-end time at h_b = 0.8 / 0.9 m (goal_bias
+  /// 0.45, local_bias 0.4): 0.75 m 60 / 39 ms, 1 m 40 / 33 ms, 1.5 m 14 / 9 ms, 2 m 11 / 8 ms;
+  /// at 2 m the forest's success within 200 ms fell from 97 to 93 % (wider stretches, fewer
+  /// shapes fit).
+  double corridor_margin_m = 1.5;
   /// Corridor configurations kept per stretch (>= 0; 0 disables corridor steps).
   int max_corridor_targets = 4;
   /// Share of greedy chains that head for a corridor configuration of the next stretch ahead,
