@@ -106,15 +106,36 @@ void SvsdfSafetyTerm::find_candidates() {
   masks_.assign(points_.size(), 0u);
   candidates_.clear();
   if (points_.empty()) return;
+  // Links are split over the workers (link j to worker j mod threads), each with its own masks;
+  // the masks are OR-ed in worker order (the result does not depend on timing).
+  std::vector<std::thread> helpers;
+  for (std::size_t w = 1; w < workers_.size(); ++w) {
+    helpers.emplace_back([this, w] { mark_candidates(*workers_[w], static_cast<int>(w)); });
+  }
+  mark_candidates(*workers_[0], 0);
+  for (std::thread& t : helpers) t.join();
+  for (const auto& w : workers_) {
+    for (std::size_t idx = 0; idx < points_.size(); ++idx) masks_[idx] |= w->masks[idx];
+  }
+  for (std::size_t idx = 0; idx < points_.size(); ++idx) {
+    if (masks_[idx]) candidates_.push_back(static_cast<int>(idx));
+  }
+}
+
+void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
+  std::vector<std::uint32_t>& masks = worker.masks;
+  masks.assign(points_.size(), 0u);
   const int pieces = body_.trajectory().num_pieces();
-  for (int j = 0; j < kNumLinks; ++j) {
+  for (int j = index; j < kNumLinks; j += static_cast<int>(workers_.size())) {
     const double err = sdf_->link(j).fine().error_bound_m();
     const double widest = std::max(margin_[static_cast<std::size_t>(j)], ground_margin_[static_cast<std::size_t>(j)]);
     const Eigen::AlignedBox3d& local = sdf_->link(j).body_bounds();
+    const double step = body_.max_step_m(j);
     const std::uint32_t bit = 1u << j;
     for (int i = 0; i < pieces; ++i) {
       const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
       if (box.isEmpty()) continue;
+      const int first = body_.piece_first_sample(i), last = body_.piece_first_sample(i + 1);
       // Level 1: the link's world box swept over the piece, inflated by the margin + err.
       const Eigen::Vector3i lo = cell_index(box.min() - Eigen::Vector3d::Constant(widest + err));
       const Eigen::Vector3i hi = cell_index(box.max() + Eigen::Vector3d::Constant(widest + err));
@@ -125,25 +146,28 @@ void SvsdfSafetyTerm::find_candidates() {
             for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
               const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
               const ObstaclePoint& o = points_[idx];
-              if ((masks_[idx] & bit) || !(o.links & bit)) continue;
+              if ((masks[idx] & bit) || !(o.links & bit)) continue;
               const double r = margin_of(o, j) + err;
               if (box.exteriorDistance(o.p_W) > r) continue;
               // Level 2, in the link frame at the piece's samples: between samples every link
-              // point moves at most max_step, so the link stays farther than (distance to its
-              // local box at the nearest sample) - max_step from the point.
-              const double reach = r + body_.max_step_m(j);
-              for (int s = body_.piece_first_sample(i); s <= body_.piece_first_sample(i + 1); ++s) {
-                if (local.exteriorDistance(body_.sample_pose(s, j).apply(o.p_W)) <= reach) {
-                  masks_[idx] |= bit;
+              // point moves at most `step`, so the link stays farther than (distance to its
+              // local box at the nearest sample) - step from the point. The local box bounds the
+              // link's signed distance from below, and that distance changes by at most `step`
+              // per sample: a sample whose box distance exceeds r + (m + 1) step also proves the
+              // link farther than r over the next m sample intervals, which are skipped (they
+              // could only set the bit for a point the penalty would not see).
+              for (int s = first; s <= last;) {
+                const double d = local.exteriorDistance(body_.sample_pose(s, j).apply(o.p_W));
+                if (d <= r + step) {
+                  masks[idx] |= bit;
                   break;
                 }
+                const double skip = step > 0.0 ? std::floor((d - r) / step) - 1.0 : 0.0;
+                s += 1 + static_cast<int>(std::clamp(skip, 0.0, static_cast<double>(last - s)));
               }
             }
           }
     }
-  }
-  for (std::size_t idx = 0; idx < points_.size(); ++idx) {
-    if (masks_[idx]) candidates_.push_back(static_cast<int>(idx));
   }
 }
 

@@ -14,7 +14,9 @@
 // piece, inflated by s_j + the field's error bound, must contain the point; then, at that piece's
 // samples, the point's distance to the link's own bounding box (link frame) must be within
 // s_j + err + max_step (the most a link point moves between samples). The points are indexed in a
-// uniform grid (kCell_m), so each swept box visits only the points near it. Each point keeps its
+// uniform grid (kCell_m), so each swept box visits only the points near it; level 2 skips samples by
+// the same Lipschitz bound as the t* scan (a box distance beyond s_j + (m + 1) max_step rules out
+// the next m samples); the links are split over the `threads` workers. Each point keeps its
 // t*_j of the previous evaluate() as the first guess of the next one's scans (svsdf.hpp; speed only).
 // Gradients: dJ_s/d(trajectory) = -3 w x^2 dD_j/d(trajectory), D_j's gradient from kc_svsdf.hpp
 // (t* held fixed, earlier durations shifted).
@@ -96,6 +98,7 @@ class SvsdfSafetyTerm : public SafetyTerm {
     TrajectoryGradient grad;
     SafetyStats stats;
     double cost = 0.0;
+    std::vector<std::uint32_t> masks;  ///< find_candidates' bits for this worker's links
   };
   /// Cell edge of the point index, m (about a link's swept box per piece).
   static constexpr double kCell_m = 0.25;
@@ -103,6 +106,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   Eigen::Vector3i cell_index(const Eigen::Vector3d& p) const;
   /// The prefilter (header comment): masks_[i] = links point i must be evaluated for.
   void find_candidates();
+  /// find_candidates' work for the links j = index (mod threads), into worker.masks.
+  void mark_candidates(Worker& worker, int index);
   void run(Worker& worker, int index, const Trajectory& trajectory);
   double margin_of(const ObstaclePoint& o, int link) const {
     return (o.ground ? ground_margin_ : margin_)[static_cast<std::size_t>(link)];
