@@ -1,5 +1,7 @@
 #include "fcl_geometry.hpp"
 
+#include <octomap/octomap.h>
+
 #include <type_traits>
 #include <variant>
 
@@ -46,7 +48,27 @@ FclWorld::FclWorld(const RobotModel& model, const std::vector<CollisionShape>& o
     manager_.registerObject(obstacles_.back().get());
   }
   manager_.setup();
-  for (const auto& link : model.links) {
+  build_links();
+}
+
+FclWorld::FclWorld(const RobotModel& model, const OccupancyGrid& occupancy_W) : model_(model) {
+  auto tree = std::make_shared<octomap::OcTree>(occupancy_W.resolution_m());
+  const Eigen::Vector3i& n = occupancy_W.dims();
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        if (!occupancy_W.occupied(x, y, z)) continue;
+        const Eigen::Vector3d c = occupancy_W.voxel_center_W(x, y, z);
+        tree->updateNode(octomap::point3d(static_cast<float>(c.x()), static_cast<float>(c.y()), static_cast<float>(c.z())),
+                         true, true);
+      }
+  tree->updateInnerOccupancy();
+  octree_ = std::make_unique<fcl::CollisionObjectd>(std::make_shared<fcl::OcTreed>(tree));
+  build_links();
+}
+
+void FclWorld::build_links() {
+  for (const auto& link : model_.links) {
     TriangleMesh merged;
     for (const auto& s : link.shapes) {
       const TriangleMesh m = shape_to_mesh(s);  // in the link frame
@@ -80,6 +102,13 @@ bool FclWorld::in_collision(const RobotConfiguration& config) {
     if (!obj) continue;
     obj->setTransform(ws.T_W_L[static_cast<std::size_t>(k)]);
     obj->computeAABB();
+    if (octree_) {
+      fcl::CollisionRequestd req;
+      fcl::CollisionResultd res;
+      fcl::collide(obj.get(), octree_.get(), req, res);
+      if (res.isCollision()) return true;
+      continue;
+    }
     AnyCollision data;
     manager_.collide(obj.get(), &data, any_collision_callback);
     if (data.hit) return true;
