@@ -76,6 +76,7 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
   if (s.samples_per_piece < 2 || s.samples_per_piece > 64) return fail("samples_per_piece not in [2, 64]");
   if (s.gear_sample_factor < 1 || s.gear_sample_factor > 16) return fail("gear_sample_factor not in [1, 16]");
+  if (!nonneg(s.max_sample_interval_s)) return fail("max_sample_interval_s must be >= 0");
   if (!nonneg(s.weight_min_speed) || !(s.min_speed_fraction >= 0.0 && s.min_speed_fraction <= 1.0)) {
     return fail("weight_min_speed must be >= 0 and min_speed_fraction in [0, 1]");
   }
@@ -91,6 +92,9 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
     if (!nonneg(w)) return fail("penalty weights must be >= 0");
   }
   if (!pos(s.residual_base_bound_m) || !pos(s.residual_arm_bound_rad)) return fail("residual bounds must be > 0");
+  if (!(s.limit_penalty_fraction > 0.0 && s.limit_penalty_fraction <= 1.0)) {
+    return fail("limit_penalty_fraction not in (0, 1]");
+  }
   if (!(s.residual_penalty_fraction > 0.0 && s.residual_penalty_fraction <= 1.0)) {
     return fail("residual_penalty_fraction not in (0, 1]");
   }

@@ -299,6 +299,7 @@ double MidendProblem::rest_rates(int s, bool at_start, CostBreakdown* breakdown)
   const int kappa = segment_layout_[s].kappa[i];
   const double weight_s = 0.5 * durations_[s][i] / kappa;  // a trapezoid end sample
   const double half_over_r = 0.5 * limits_.track_width_m / limits_.wheel_radius_m;
+  const double lf = settings_.limit_penalty_fraction;  // penalties start at lf * limit
   double cost = 0.0, cost_v = 0.0, cost_a = 0.0;
   Eigen::Vector2d gu = Eigen::Vector2d::Zero(), gu1 = Eigen::Vector2d::Zero(),
                   gu2 = Eigen::Vector2d::Zero();
@@ -306,7 +307,7 @@ double MidendProblem::rest_rates(int s, bool at_start, CostBreakdown* breakdown)
     double dphi = 0.0;
     if (wv) {
       const double w = side * half_over_r * omega;
-      const double inv = 1.0 / (limits_.wheel_omega_max_radps * limits_.wheel_omega_max_radps);
+      const double inv = 1.0 / (lf * lf * limits_.wheel_omega_max_radps * limits_.wheel_omega_max_radps);
       cost_v += settings_.weight_wheel_velocity * penalty_.value(w * w * inv - 1.0, &dphi);
       const double k = settings_.weight_wheel_velocity * dphi * 2.0 * w * inv * side * half_over_r;
       gu += k * weight_s * domega_du;
@@ -314,7 +315,7 @@ double MidendProblem::rest_rates(int s, bool at_start, CostBreakdown* breakdown)
     }
     if (wa) {
       const double a = side * half_over_r * alpha;
-      const double inv = 1.0 / (limits_.wheel_alpha_max_radps2 * limits_.wheel_alpha_max_radps2);
+      const double inv = 1.0 / (lf * lf * limits_.wheel_alpha_max_radps2 * limits_.wheel_alpha_max_radps2);
       cost_a += settings_.weight_wheel_acceleration * penalty_.value(a * a * inv - 1.0, &dphi);
       const double k = settings_.weight_wheel_acceleration * dphi * 2.0 * a * inv * side * half_over_r;
       gu += k * weight_s * dalpha_du;

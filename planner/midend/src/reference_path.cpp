@@ -141,9 +141,49 @@ std::vector<double> densify_fractions(double len_b, double len_m, bool rest_a, b
 // initial_speed_fraction of the limits. Edge durations are 2 L / (v_k + v_k+1) (exact for
 // constant acceleration between nodes), at least the edge's heading / joint motion at the
 // limited rates and min_initial_piece_duration_s.
+// Time to cover d >= 0 from speed w0 to w1 (both <= cap, |w1^2 - w0^2| <= 2 a d) with
+// acceleration a and speed cap: accelerate, cruise at the peak speed, brake.
+double ramp_time(double d, double w0, double w1, double a, double cap) {
+  if (d <= 0.0) return 0.0;
+  const double peak = std::min(cap, std::sqrt(std::max(0.0, a * d + 0.5 * (w0 * w0 + w1 * w1))));
+  if (peak <= 0.0) return 0.0;
+  const double ramps_d = (2.0 * peak * peak - w0 * w0 - w1 * w1) / (2.0 * a);
+  return (2.0 * peak - w0 - w1) / a + std::max(0.0, d - ramps_d) / peak;
+}
+
+// Per edge (all segments, in order): the time the arm needs when every joint follows its own
+// speed profile along the path: at most f * qd_max, f * qdd_max between nodes, at rest at the
+// global start and goal. allocate_times() uses it on still segments (the arm finishing at the
+// goal or starting at the start while the base rests). Timed at constant joint speed instead,
+// the nodes of such a motion sit at equal times while the trajectory must brake to rest: it runs
+// ahead of its nodes and then creeps, and the residual to the node nearest in time exceeds rho_m
+// (tunnel seed 13: 1.05 rho_m just before the last node-switch instant). On moving segments the
+// constant-speed floor is kept: there the arm ramps stretched the edges where the base creeps
+// during an arm reconfiguration and made several forest / tunnel solves stall (measured).
+std::vector<double> arm_edge_times(const std::vector<ReferenceSegment>& segments,
+                                   const MidendLimits& limits, double f) {
+  std::vector<JointVector> dq;
+  for (const ReferenceSegment& seg : segments) {
+    for (std::size_t i = 0; i + 1 < seg.nodes.size(); ++i) dq.push_back(seg.nodes[i + 1].q_rad - seg.nodes[i].q_rad);
+  }
+  const std::size_t n = dq.size();
+  std::vector<double> out(n, 0.0);
+  std::vector<double> w(n + 1);
+  for (int j = 0; j < kNumArmJoints; ++j) {
+    const double cap = f * limits.joint_velocity_max_radps[j];
+    const double acc = f * limits.joint_acceleration_max_radps2[j];
+    for (std::size_t k = 0; k <= n; ++k) w[k] = k > 0 && k < n ? cap : 0.0;
+    for (std::size_t k = 0; k < n; ++k) w[k + 1] = std::min(w[k + 1], std::sqrt(w[k] * w[k] + 2.0 * acc * std::abs(dq[k][j])));
+    for (std::size_t k = n; k-- > 0;) w[k] = std::min(w[k], std::sqrt(w[k + 1] * w[k + 1] + 2.0 * acc * std::abs(dq[k][j])));
+    for (std::size_t k = 0; k < n; ++k) out[k] = std::max(out[k], ramp_time(std::abs(dq[k][j]), w[k], w[k + 1], acc, cap));
+  }
+  return out;
+}
+
 void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits& limits,
                     const MidendSettings& settings) {
   const double f = settings.initial_speed_fraction;
+  const std::vector<double> arm_s = arm_edge_times(segments, limits, f);
   const double v_max = f * limits.max_base_speed_mps();
   const double yaw_rate_max = f * limits.max_base_yaw_rate_radps();
   const double a_max = f * limits.wheel_radius_m * limits.wheel_alpha_max_radps2;
@@ -163,9 +203,13 @@ void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits&
       e.length_m = std::hypot(b.base.x_m - a.base.x_m, b.base.y_m - a.base.y_m);
       const double dyaw = std::abs(angle_difference(b.base.yaw_rad, a.base.yaw_rad));
       e.floor_s = std::max(settings.min_initial_piece_duration_s, dyaw / yaw_rate_max);
-      for (int j = 0; j < kNumArmJoints; ++j) {
-        e.floor_s = std::max(e.floor_s, std::abs(b.q_rad[j] - a.q_rad[j]) /
-                                            (f * limits.joint_velocity_max_radps[j]));
+      if (segments[s].base_still) {
+        e.floor_s = std::max(e.floor_s, arm_s[edges.size()]);
+      } else {
+        for (int j = 0; j < kNumArmJoints; ++j) {
+          e.floor_s = std::max(e.floor_s, std::abs(b.q_rad[j] - a.q_rad[j]) /
+                                              (f * limits.joint_velocity_max_radps[j]));
+        }
       }
       const double curvature = e.length_m > 0.0 ? dyaw / e.length_m : 0.0;
       e.cap_mps = v_max / (1.0 + 0.5 * limits.track_width_m * curvature);
@@ -246,14 +290,17 @@ void group_pieces(std::vector<ReferenceSegment>& segments, const MidendSettings&
     seg.node_fraction.assign(seg.nodes.size(), 0.0);
     for (int p = 0; p < num_pieces; ++p) {
       const int m = seg.knots[p + 1] - seg.knots[p];
-      int kappa = std::max({settings.samples_per_piece, settings.samples_per_edge * m, 2 * m});
+      double total = 0.0;
+      for (int e = seg.knots[p]; e < seg.knots[p + 1]; ++e) total += edge_s[e];
+      const int by_time = settings.max_sample_interval_s > 0.0
+                              ? static_cast<int>(std::ceil(total / settings.max_sample_interval_s))
+                              : 0;
+      int kappa = std::max({settings.samples_per_piece, settings.samples_per_edge * m, 2 * m, by_time});
       const bool gear = (gear_before && p == 0) || (gear_after && p + 1 == num_pieces);
       if (gear) kappa *= settings.gear_sample_factor;
       kappa += kappa % 2;  // even: the instants midway between nodes are samples
       kappa = std::min(kappa, std::max(ReferenceSegment::kMaxSamplesPerPiece, 2 * m));
       seg.intervals[p] = kappa;
-      double total = 0.0;
-      for (int e = seg.knots[p]; e < seg.knots[p + 1]; ++e) total += edge_s[e];
       seg.durations_s[p] = total;
       // Node fractions on the grid 2 / kappa (in grid units g, out of kappa / 2), strictly
       // increasing and leaving room for the nodes still to place.
@@ -361,6 +408,25 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     out.message = "every node of the path coincides";
     out.single = segs.front().nodes.front().config;
     return out;
+  }
+
+  // 5a. creeping ends without arm motion: a node next to the goal (start) within
+  // 0.1 still_max_base_m (1 cm by default), still_max_yaw_rad and still_min_arm_rad of it is
+  // dropped (longer edges, e.g. tunnel's 5 cm last edge with a 0.12 rad heading change, stay
+  // reference edges: the back-end's frozen fixtures rely on that piece structure). Kept, a
+  // millimetre edge into the rest state makes the interpolating quintic overshoot the goal and
+  // come back (forest seed 17: 2 mm, base reversal and the rest-boundary heading term stuck at
+  // its maximum, where its gradient vanishes).
+  if (settings.still_max_base_m > 0.0) {
+    auto close = [&](const Node& a, const Node& b) {
+      return base_distance(a, b) <= 0.1 * settings.still_max_base_m &&
+             std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad)) <= settings.still_max_yaw_rad &&
+             (b.config.q_rad - a.config.q_rad).norm() < settings.still_min_arm_rad;
+    };
+    std::vector<Node>& last = segs.back().nodes;
+    if (last.size() >= 3 && close(last[last.size() - 2], last.back())) last.erase(last.end() - 2);
+    std::vector<Node>& first = segs.front().nodes;
+    if (first.size() >= 3 && close(first[1], first.front())) first.erase(first.begin() + 1);
   }
 
   // 5b. still ends: the base rests at the goal (start) while the arm finishes (starts).

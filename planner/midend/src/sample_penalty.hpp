@@ -88,7 +88,7 @@ struct SamplePenalty {
     for (const double side : {-1.0, 1.0}) {  // left, right
       if (wv) {
         const double w = (eta * r.speed + side * half * r.yaw_rate) * inv_r;
-        const double c = inv_r * bounded_square(w, limits->wheel_omega_max_radps,
+        const double c = inv_r * bounded_square(w, settings->limit_penalty_fraction * limits->wheel_omega_max_radps,
                                                 settings->weight_wheel_velocity, &g.wheel_velocity);
         if (c != 0.0) {
           s.grad_vel.head<2>() += c * (eta * r.dspeed_dv + side * half * r.dyaw_rate_dv);
@@ -97,7 +97,7 @@ struct SamplePenalty {
       }
       if (wa) {
         const double al = (eta * r.accel + side * half * r.yaw_accel) * inv_r;
-        const double c = inv_r * bounded_square(al, limits->wheel_alpha_max_radps2,
+        const double c = inv_r * bounded_square(al, settings->limit_penalty_fraction * limits->wheel_alpha_max_radps2,
                                                 settings->weight_wheel_acceleration,
                                                 &g.wheel_acceleration);
         if (c != 0.0) {
@@ -124,11 +124,11 @@ struct SamplePenalty {
         s.grad_pos[k] -= w * dphi;
       }
       if (jv) {
-        s.grad_vel[k] += bounded_square(s.vel[k], limits->joint_velocity_max_radps[d],
+        s.grad_vel[k] += bounded_square(s.vel[k], settings->limit_penalty_fraction * limits->joint_velocity_max_radps[d],
                                         settings->weight_joint_velocity, &g.joint_velocity);
       }
       if (ja) {
-        s.grad_acc[k] += bounded_square(s.acc[k], limits->joint_acceleration_max_radps2[d],
+        s.grad_acc[k] += bounded_square(s.acc[k], settings->limit_penalty_fraction * limits->joint_acceleration_max_radps2[d],
                                         settings->weight_joint_acceleration,
                                         &g.joint_acceleration);
       }

@@ -7,7 +7,9 @@
 // that breaks the checked properties is never returned as a success.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "porter/midend/midend.hpp"
 #include "porter/midend/reference_path.hpp"
@@ -88,6 +90,89 @@ void expect_still_end(bool creep_at_start) {
 TEST(MidendStillEnd, CreepingLastEdgeRestsTheBaseAtTheGoalWhileTheArmFinishes) { expect_still_end(false); }
 
 TEST(MidendStillEnd, CreepingFirstAndLastEdges) { expect_still_end(true); }
+
+// Regression (tunnel seed 13 of the issue-5 benchmark): the arm finishes at the goal with a
+// 1.64 rad turn of joint 4 over 5 cm of base path, densified into four 0.41 rad edges. Timed at
+// constant joint speed, those edges had equal durations, so the node before the goal sat at
+// 3/4 of the still tail's time while the arm, braking to rest, got there much earlier and then
+// crept: the residual to the node nearest in time reached 1.05 rho_m. The still tail is now
+// timed with the joints' acceleration ramps (reference_path.hpp, step 7).
+planner::WholeBodyPath arm_finish_path() {
+  testing::PathBuilder b({0.0, 0.0, 0.0}, testing::carry_pose(), 0.25);
+  b.straight(2.0, 1);
+  planner::WholeBodyPath path = b.build();
+  auto& nodes = path.segments.front().nodes;
+  JointVector q = nodes.back().config.q_rad;
+  q[3] += 1.64;
+  nodes.push_back(node_at(nodes.back(), 0.05, q, 0.5));
+  return path;
+}
+
+TEST(MidendStillEnd, ArmFinishIsTimedWithAccelerationRampsAndKeepsTheResidual) {
+  const planner::WholeBodyPath path = arm_finish_path();
+  const MidEnd midend(testing::scout_mini_piper_model());
+  const MidendSettings& st = midend.settings();
+  const ReferenceBuild ref = build_reference_path(path, midend.limits(), st);
+  ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+  ASSERT_EQ(ref.path.segments.size(), 2u);
+  const ReferenceSegment& tail = ref.path.segments.back();
+  ASSERT_TRUE(tail.base_still);
+  const int edges = static_cast<int>(tail.nodes.size()) - 1;
+  ASSERT_GE(edges, 4);  // 1.64 rad in parts of at most densify_factor * rho_m
+  // Edge durations from the pieces and the node fractions inside them.
+  std::vector<double> edge_s;
+  for (int p = 0; p < tail.num_pieces(); ++p) {
+    for (int k = 0; k < tail.edges_in_piece(p); ++k) {
+      edge_s.push_back((tail.fraction_in_piece(p, k + 1) - tail.fraction_in_piece(p, k)) * tail.durations_s[p]);
+    }
+  }
+  ASSERT_EQ(static_cast<int>(edge_s.size()), edges);
+  // Braking to rest: the last edge lasts at least sqrt(2 d / a) (d: its joint-4 motion, a: the
+  // reduced acceleration bound), longer than the constant-speed d / v, and longer than an edge
+  // in the middle of the motion.
+  const double f = st.initial_speed_fraction;
+  const double d = std::abs(tail.nodes[edges].q_rad[3] - tail.nodes[edges - 1].q_rad[3]);
+  const double a = f * midend.limits().joint_acceleration_max_radps2[3];
+  const double v = f * midend.limits().joint_velocity_max_radps[3];
+  EXPECT_GE(edge_s.back(), std::sqrt(2.0 * d / a) * (1.0 - 0.1));  // fractions are on a grid
+  EXPECT_GT(edge_s.back(), 1.5 * d / v);
+  EXPECT_GT(edge_s.back(), 1.2 * edge_s[static_cast<std::size_t>(edges / 2)]);
+
+  const MidendResult r = midend.solve(path, 10.0);
+  ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+  const testing::CheckReport k = testing::check_trajectory(*r.trajectory, path, midend.limits(), st);
+  const std::vector<std::string> v_list = testing::violations(k);
+  EXPECT_TRUE(v_list.empty()) << describe(v_list);
+  EXPECT_LE(k.residual_arm_ratio, 1.02);
+}
+
+// Regression (forest seed 17 after the front-end change of 9712b01): the last front-end edge moves
+// the base 2 mm and not the arm. Kept as a reference node, the quintic through it overshot the
+// goal and came back; the node is now dropped (reference_path.hpp, step 5a).
+TEST(MidendStillEnd, MillimetreLastEdgeWithoutArmMotionIsDropped) {
+  testing::PathBuilder b({0.0, 0.0, 0.0}, testing::carry_pose(), 0.25);
+  b.straight(3.0, 1);
+  planner::WholeBodyPath path = b.build();
+  auto& nodes = path.segments.front().nodes;
+  const planner::PathNode goal = node_at(nodes.back(), 0.002, nodes.back().config.q_rad, 0.01);
+  nodes.push_back(goal);
+  const MidEnd midend(testing::scout_mini_piper_model());
+  const ReferenceBuild ref = build_reference_path(path, midend.limits(), midend.settings());
+  ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+  ASSERT_EQ(ref.path.segments.size(), 1u);
+  const auto& rn = ref.path.segments.front().nodes;
+  ASSERT_GE(rn.size(), 2u);
+  EXPECT_EQ(rn.back().base.x_m, goal.config.base.x_m);  // the goal itself stays
+  const RobotConfiguration& before = rn[rn.size() - 2];
+  EXPECT_GT(std::hypot(goal.config.base.x_m - before.base.x_m, goal.config.base.y_m - before.base.y_m), 0.1);
+
+  const MidendResult r = midend.solve(path, 10.0);
+  ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+  const testing::CheckReport k = testing::check_trajectory(*r.trajectory, path, midend.limits(), midend.settings());
+  const std::vector<std::string> v = testing::violations(k);
+  EXPECT_TRUE(v.empty()) << describe(v);
+  EXPECT_EQ(k.reversals, 0);
+}
 
 TEST(MidendStillEnd, WithoutStillEndsNoWrongTrajectoryIsReturned) {
   // The pre-fix behaviour (still ends disabled): either a trajectory that passes the checks or

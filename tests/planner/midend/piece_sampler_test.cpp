@@ -85,9 +85,14 @@ TEST(PieceSampler, MatchesReferenceWithLongAndSingleEdgePieces) {
   wide.piece_length_m = 4.0;
   wide.piece_arm_motion_rad = 4.0;
   wide.piece_duration_ratio = 100.0;
+  // Keeps kappa at samples_per_edge * edges: with the time-based minimum (the tight limits make
+  // these pieces long) the two min-speed sums run over many more samples and differ by rounding
+  // at the 2e-12 level, above this test's 1e-12. The time-based kappa is compared above.
+  wide.max_sample_interval_s = 0.0;
   compare(testing::forest_slalom(50), tight_limits(), 4, wide);
   MidendSettings single;
   single.max_edges_per_piece = 1;
+  single.max_sample_interval_s = 0.0;  // as above
   compare(testing::three_point_turn(), tight_limits(), 5, single);
 }
 
@@ -176,6 +181,58 @@ TEST(MidendExtraCost, NonFiniteExtraCostRejectsThePoint) {
   Eigen::VectorXd g(problem.num_variables());
   EXPECT_FALSE(std::isfinite(problem.evaluate(problem.initial_guess(), &g, nullptr)));
   EXPECT_TRUE(g.isZero());
+}
+
+// MidendSettings::limit_penalty_fraction: the joint-rate (and wheel) penalties start at f * the
+// limit. With the limits at 1.05 x the largest joint speed / acceleration the initial guess has
+// at any sample: no cost with f = 1, a positive one with f = 0.9 (both samplers, same value).
+TEST(PieceSampler, LimitPenaltiesStartAtTheFractionOfTheLimit) {
+  const MidendLimits robot = MidendLimits::from_robot(testing::scout_mini_piper_model());
+  const ReferenceBuild ref = build_reference_path(testing::forward_with_turn(), robot, MidendSettings{});
+  ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
+  double qd = 0.0, qdd = 0.0;  // largest |q_dot|, |q_ddot| at the penalty samples
+  {
+    MidendProblem problem(ref.path, robot, MidendSettings{});
+    const Eigen::VectorXd x = problem.initial_guess();
+    const std::vector<TrajectoryPiece> pieces = problem.pieces(x.data());
+    std::size_t i = 0;
+    for (const ReferenceSegment& seg : ref.path.segments) {
+      for (int p = 0; p < seg.num_pieces(); ++p, ++i) {
+        ASSERT_LT(i, pieces.size());
+        for (int j = 0; j <= seg.intervals[p]; ++j) {
+          const double t = pieces[i].duration_s * j / seg.intervals[p];
+          const minco::Basis b1 = minco::basis(t, 1), b2 = minco::basis(t, 2);
+          const TrajVector v = pieces[i].coeffs.transpose() * b1, a = pieces[i].coeffs.transpose() * b2;
+          qd = std::max(qd, v.tail<kNumArmJoints>().cwiseAbs().maxCoeff());
+          qdd = std::max(qdd, a.tail<kNumArmJoints>().cwiseAbs().maxCoeff());
+        }
+      }
+    }
+  }
+  ASSERT_GT(qd, 0.0);
+  ASSERT_GT(qdd, 0.0);
+  MidendLimits limits = robot;
+  limits.joint_velocity_max_radps.setConstant(1.05 * qd);
+  limits.joint_acceleration_max_radps2.setConstant(1.05 * qdd);
+  for (const std::uint32_t mask : {kTermJointVelocity, kTermJointAcceleration}) {
+    double cost[2][2] = {};  // [f = 1, f = 0.9][fast, reference]
+    for (int k = 0; k < 2; ++k) {
+      MidendSettings settings;
+      settings.limit_penalty_fraction = k == 0 ? 1.0 : 0.9;
+      MidendProblem problem(ref.path, limits, settings);
+      problem.set_terms(mask);
+      const Eigen::VectorXd x = problem.initial_guess();
+      for (int r = 0; r < 2; ++r) {
+        problem.set_reference_sampling(r == 1);
+        Eigen::VectorXd g(problem.num_variables());
+        cost[k][r] = problem.evaluate(x, &g, nullptr);
+      }
+    }
+    EXPECT_EQ(cost[0][0], 0.0) << "mask " << mask;
+    EXPECT_EQ(cost[0][1], 0.0) << "mask " << mask;
+    EXPECT_GT(cost[1][0], 0.0) << "mask " << mask;
+    EXPECT_NEAR(cost[1][0], cost[1][1], 1e-12 * cost[1][1]) << "mask " << mask;
+  }
 }
 
 }  // namespace

@@ -211,6 +211,9 @@ TEST(ReferencePath, GroupsEdgesIntoPiecesWithinTheCaps) {
       const int kappa = seg.intervals[p];
       EXPECT_EQ(kappa % 2, 0);
       EXPECT_GE(kappa, std::max(s.samples_per_piece, s.samples_per_edge * m));
+      // At most max_sample_interval_s between samples (below the 128-interval cap).
+      EXPECT_GE(kappa, std::min(static_cast<double>(ReferenceSegment::kMaxSamplesPerPiece),
+                                seg.durations_s[p] / s.max_sample_interval_s - 1e-9));
       EXPECT_EQ(seg.fraction_in_piece(p, 0), 0.0);
       EXPECT_EQ(seg.fraction_in_piece(p, m), 1.0);
       for (int k = 1; k < m; ++k) {
@@ -222,7 +225,12 @@ TEST(ReferencePath, GroupsEdgesIntoPiecesWithinTheCaps) {
     }
     if (si > 0) {
       EXPECT_EQ(seg.edges_in_piece(0), 1);
-      EXPECT_EQ(seg.intervals.front(), s.samples_per_piece * s.gear_sample_factor);
+      // The gear factor multiplies the piece's own kappa (samples_per_piece, or the time-based
+      // minimum when the piece is long).
+      const int by_time = static_cast<int>(std::ceil(seg.durations_s.front() / s.max_sample_interval_s));
+      const int base = std::max(s.samples_per_piece, by_time);
+      EXPECT_EQ(seg.intervals.front(), std::min(base * s.gear_sample_factor + (base * s.gear_sample_factor) % 2,
+                                                ReferenceSegment::kMaxSamplesPerPiece));
     }
     if (si + 1 < num_segments) {
       EXPECT_EQ(seg.edges_in_piece(seg.num_pieces() - 1), 1);

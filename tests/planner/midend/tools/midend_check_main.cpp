@@ -72,7 +72,16 @@ bool set_field(MidendSettings& s, const std::string& kv) {
       {"rest_densify_factor", &s.rest_densify_factor},
       {"piece_duration_ratio", &s.piece_duration_ratio},
       {"residual_penalty_fraction", &s.residual_penalty_fraction},
-      {"yaw_gate_speed_mps", &s.yaw_gate_speed_mps}, {"weight_min_speed", &s.weight_min_speed}};
+      {"yaw_gate_speed_mps", &s.yaw_gate_speed_mps}, {"weight_min_speed", &s.weight_min_speed},
+      {"energy_weight_base", &s.energy_weight_base}, {"energy_weight_joint", &s.energy_weight_joint},
+      {"weight_wheel_acceleration", &s.weight_wheel_acceleration},
+      {"weight_wheel_velocity", &s.weight_wheel_velocity},
+      {"weight_joint_velocity", &s.weight_joint_velocity},
+      {"weight_joint_acceleration", &s.weight_joint_acceleration},
+      {"verify_tolerance", &s.verify_tolerance},
+      {"limit_penalty_fraction", &s.limit_penalty_fraction},
+      {"weight_boundary_heading", &s.weight_boundary_heading},
+      {"max_sample_interval_s", &s.max_sample_interval_s}};
   for (const auto& d : doubles) {
     if (key == d.first) return *d.second = v, true;
   }
@@ -137,6 +146,16 @@ int main(int argc, char** argv) {
         out["initial_cost"] = r.initial_cost.total();
         out["final_cost"] = r.final_cost.total();
         out["final_penalties"] = r.final_cost.penalties();
+        out["final_energy"] = r.final_cost.energy;
+        for (const auto* c : {&r.initial_cost, &r.final_cost}) {
+          out[c == &r.initial_cost ? "initial_terms" : "final_terms"] = json{
+              {"energy", c->energy}, {"time", c->time}, {"wheel_velocity", c->wheel_velocity},
+              {"wheel_acceleration", c->wheel_acceleration}, {"joint_position", c->joint_position},
+              {"joint_velocity", c->joint_velocity}, {"joint_acceleration", c->joint_acceleration},
+              {"residual_base", c->residual_base}, {"residual_arm", c->residual_arm},
+              {"min_speed", c->min_speed}, {"boundary_heading", c->boundary_heading}};
+        }
+        out["final_time_cost"] = r.final_cost.time;
         traj = r.trajectory;
       }
       if (!res.path) {

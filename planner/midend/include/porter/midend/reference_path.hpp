@@ -13,6 +13,8 @@
 //      segments: the base does not move, so there is no gear switch); their arm motion is kept
 //      by appending their nodes to the previous segment (or prepending to the next one);
 //   5. merges consecutive segments with the same eta;
+//   5a. drops the node next to the goal (start) when it is within 0.1 still_max_base_m,
+//      still_max_yaw_rad and still_min_arm_rad of it (a creeping end edge without arm motion);
 //   5b. splits off still ends (MidendSettings::still_max_base_m): the longest goal tail of the
 //      last segment (start head of the first) whose base path and heading change are within
 //      still_max_base_m / still_max_yaw_rad and which moves the arm by still_min_arm_rad becomes
@@ -29,7 +31,10 @@
 //      r omega_max), the joint speeds, 0 at the global start and goal and on still segments, v_ns at gear switches,
 //      then forward/backward passes with the wheel acceleration bound (a <= r alpha_max), all at
 //      initial_speed_fraction of the limits; an edge lasts 2 L / (v_k + v_k+1), at least its
-//      heading / joint motion at the limited rates and min_initial_piece_duration_s. The
+//      heading / joint motion at the limited rates and min_initial_piece_duration_s; on a still
+//      segment the arm edges are timed by per-joint speed profiles (joint speed and acceleration
+//      bounds, at rest at the global start and goal), so the nodes of an arm motion that ends or
+//      starts at rest sit where a braking (accelerating) arm reaches them. The
 //      front-end's node times are not used (they are a plan's guess, often a cruise speed far
 //      below the limits);
 //   8. groups consecutive edges into pieces (greedy along the segment): a piece ends before it
@@ -39,7 +44,8 @@
 //      piece's initial duration is the sum of its edges'; each node inside a piece keeps the
 //      fraction of the piece's duration at which its edge times put it, so "the node nearest in
 //      time" (paper eq. pose_residual) is well defined when the optimizer rescales the piece;
-//      the fractions are rounded to multiples of 2 / kappa (see intervals).
+//      the fractions are rounded to multiples of 2 / kappa (see intervals). kappa is at least
+//      the initial duration / max_sample_interval_s.
 // Why grouping: the front-end drops a node every ~0.25 m and the densification adds one every
 // ~0.4 rad of arm motion, so one piece per edge gives 130-260 pieces on the tunnel and forest;
 // a quintic easily follows several such edges, and the optimizer's cost per iteration and its
@@ -72,7 +78,7 @@ struct ReferenceSegment {
   std::vector<double> node_fraction;
   std::vector<double> durations_s;        ///< initial guess, one per piece
   /// Trapezoid intervals (kappa) of each piece's penalty integrals: max(samples_per_piece,
-  /// samples_per_edge * edges, 2 * edges) rounded up to even, times gear_sample_factor next to
+  /// samples_per_edge * edges, 2 * edges, initial duration / max_sample_interval_s) rounded up to even, times gear_sample_factor next to
   /// a gear switch, at most kMaxSamplesPerPiece. Interior node fractions are multiples of 2 / kappa, so the instant
   /// midway between two nodes, where the nearest node changes, is always a sample.
   std::vector<int> intervals;
