@@ -31,6 +31,8 @@ bool validate_settings(const LayeredArmSettings& s, std::string* why) {
   if (s.max_parent_candidates < 1) return bad("max_parent_candidates");
   if (s.max_connect_candidates < 1) return bad("max_connect_candidates");
   if (s.refine_iterations < 0) return bad("refine_iterations");
+  if (s.shortcut_attempts < 0) return bad("shortcut_attempts");
+  if (s.shortcut_max_layers < 2) return bad("shortcut_max_layers");
   if (s.max_iterations < 1) return bad("max_iterations");
   return true;
 }

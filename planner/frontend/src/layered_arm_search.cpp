@@ -56,6 +56,7 @@ PlannerStatus LayeredArmSearch::run(const Deadline& deadline, LayeredArmResult& 
   extract_frontiers(out);
   if (connections_.empty()) return status;
   extract_solution(out);
+  shortcut(deadline, out);
   return PlannerStatus::kSuccess;
 }
 
@@ -218,6 +219,34 @@ void LayeredArmSearch::extract_solution(LayeredArmResult& out) const {
   const std::vector<JointVector> tail = path_to_root(best_pair.second);
   out.q.insert(out.q.end(), tail.begin(), tail.end());
   out.cost = best;
+}
+
+void LayeredArmSearch::shortcut(const Deadline& deadline, LayeredArmResult& out) {
+  std::vector<JointVector>& q = out.q;
+  if (n_ < 3 || static_cast<int>(q.size()) != n_) return;
+  std::vector<JointVector> line;
+  for (int a = 0; a < s_.shortcut_attempts && !deadline.expired(); ++a) {
+    const int i = std::uniform_int_distribution<int>(0, n_ - 3)(rng_);
+    const int j = std::uniform_int_distribution<int>(i + 2, std::min(n_ - 1, i + s_.shortcut_max_layers))(rng_);
+    double old_cost = 0.0;
+    for (int k = i; k < j; ++k) old_cost += motion_cost(q[static_cast<std::size_t>(k)], q[static_cast<std::size_t>(k) + 1]);
+    const JointVector& qi = q[static_cast<std::size_t>(i)];
+    const JointVector& qj = q[static_cast<std::size_t>(j)];
+    if (motion_cost(qi, qj) >= old_cost - 1e-9) continue;  // already straight
+    line.assign(static_cast<std::size_t>(j - i + 1), qi);
+    bool ok = true;
+    for (int k = i + 1; ok && k <= j; ++k) {
+      line[static_cast<std::size_t>(k - i)] = qi + (static_cast<double>(k - i) / (j - i)) * (qj - qi);
+      ok = reachable(k - 1, line[static_cast<std::size_t>(k - i - 1)], k, line[static_cast<std::size_t>(k - i)]);
+    }
+    for (int k = i + 1; ok && k < j; ++k) ok = node_free(k, line[static_cast<std::size_t>(k - i)]);
+    for (int k = i; ok && k < j; ++k)
+      ok = edge_free(k, line[static_cast<std::size_t>(k - i)], k + 1, line[static_cast<std::size_t>(k - i + 1)]);
+    if (!ok) continue;
+    for (int k = i + 1; k < j; ++k) q[static_cast<std::size_t>(k)] = line[static_cast<std::size_t>(k - i)];
+  }
+  out.cost = 0.0;
+  for (int k = 0; k + 1 < n_; ++k) out.cost += motion_cost(q[static_cast<std::size_t>(k)], q[static_cast<std::size_t>(k) + 1]);
 }
 
 }  // namespace porter::frontend::detail

@@ -80,6 +80,9 @@ class LayeredArmSearch {
   int cheapest_in_layer(int tree, int layer) const;
   void extract_frontiers(LayeredArmResult& out) const;
   void extract_solution(LayeredArmResult& out) const;
+  /// shortcut_attempts random shortcuts on out.q (header comment of layered_arm_planner.hpp);
+  /// stops early at the deadline. Updates out.cost.
+  void shortcut(const Deadline& deadline, LayeredArmResult& out);
   int next_layer(int tree, int layer) const { return tree == 0 ? layer + 1 : layer - 1; }
 
   const planner::CollisionChecker& checker_;

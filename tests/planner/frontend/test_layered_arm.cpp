@@ -79,6 +79,25 @@ TEST(LayeredArm, PayloadTurnsUnderTheLowDeck) {
   expect_valid(r, p, f.model, f.exact, planner.settings().arm_speed_fraction);
 }
 
+TEST(LayeredArm, ShortcutsShortenTheArmMotionAndKeepEveryPromise) {
+  // Same search (same seed) with and without the shortcut pass: the trees' solution is the same,
+  // the shortcut one moves the arm less and still meets every per-layer promise.
+  SceneLoadOptions options;
+  options.parameter_overrides["h_b"] = 0.9;
+  Fixture f(load_scene(test::scene_yaml("bridge"), options));
+  const ArmLayerProblem p = straight_problem(-2.5, 2.5, 1.2, f.scene.start.q_rad, f.scene.goal.q_rad);
+  LayeredArmSettings none;
+  none.shortcut_attempts = 0;
+  const LayeredArmResult raw = LayeredArmPlanner(f.model, f.exact, none).plan(p, 120.0, 5);
+  const LayeredArmPlanner planner(f.model, f.exact);
+  ASSERT_GT(planner.settings().shortcut_attempts, 0);
+  const LayeredArmResult r = planner.plan(p, 120.0, 5);
+  expect_valid(raw, p, f.model, f.exact, none.arm_speed_fraction);
+  expect_valid(r, p, f.model, f.exact, planner.settings().arm_speed_fraction);
+  EXPECT_EQ(r.report.iterations, raw.report.iterations);
+  EXPECT_LT(r.cost, raw.cost - 1e-6) << "no shortcut was taken";
+}
+
 TEST(LayeredArm, TooLittleTimeBetweenLayersIsNoPath) {
   Fixture f(test::scene_from_text(test::open_scene_yaml()));
   JointVector qg = f.scene.start.q_rad;

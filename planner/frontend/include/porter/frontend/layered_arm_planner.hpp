@@ -24,7 +24,8 @@
 // holds the shape through the passage, where the two trees meet.
 //
 // Stops refine_iterations after the first connection (so results do not depend on machine
-// speed), at max_iterations, or at the time budget. Deterministic for a given seed when it
+// speed), at max_iterations, or at the time budget; a successful solution is then shortened by
+// shortcut_attempts random shortcuts (straight joint-space lines across several layers). Deterministic for a given seed when it
 // stops before the budget.
 //
 // Thread-safety: plan() is const and reentrant; the checker must not change its map meanwhile.
@@ -90,6 +91,17 @@ struct LayeredArmSettings {
   int max_connect_candidates = 3;
   /// Iterations spent improving after the first connection (>= 0).
   int refine_iterations = 30;
+  /// Shortcut attempts on the solution (>= 0): a random pair of layers i < j (at most
+  /// shortcut_max_layers apart) whose arm configurations are joined by the straight line in
+  /// joint space, spread evenly over the layers between, replaces the stretch when every node
+  /// and edge is collision-free, every step within the per-layer joint speed limit and the
+  /// joint motion shorter. The trees' solution zig-zags (random samples). Measured (front-end
+  /// probe, mean total arm motion sum_j |dq_j|): bridge h_b = 0.9, 50 seeds 9.8 -> 8.0 rad;
+  /// forest, 30 seeds 47.7 -> 38.8 rad; front-end times unchanged within noise. Unlimited spans
+  /// (60 attempts) only reached 45.2 rad on the forest: long shortcuts rarely survive there.
+  int shortcut_attempts = 200;
+  /// Longest shortcut, layers (>= 2; see shortcut_attempts).
+  int shortcut_max_layers = 8;
   /// Iteration cap (>= 1). When the trees have not connected by then, the front-end hands the
   /// gap to the whole-body RRT*, which can also move the base off the Hybrid A* path.
   std::int64_t max_iterations = 200000;
