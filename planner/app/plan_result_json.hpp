@@ -27,6 +27,8 @@ struct PlanRunInfo {
   double frontend_budget_ms = 0.0;
   double midend_budget_ms = 0.0;
   double backend_budget_ms = 0.0;
+  /// Why the mid-end was solved a second time with a tighter arm residual ("" when it was not).
+  std::string midend_retry;
 };
 
 /// The kernel trajectory check of the answer (mid-end's, or back-end's when it ran).

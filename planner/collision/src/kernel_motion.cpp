@@ -133,4 +133,34 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
   return r;
 }
 
+CollisionResult KernelCollisionChecker::check_trajectory_self(const Trajectory& trajectory) const {
+  const ChainRadii& radii = kernels_.radii();
+  const double half_step = 0.5 * motion_step_m_;
+  auto q_at = [&](double t) -> JointVector { return trajectory.position(t).tail<kNumArmJoints>(); };
+  CollisionResult r = check_self(q_at(0.0));
+  if (r) return r;
+  for (int i = 0; i < trajectory.num_pieces(); ++i) {
+    const TrajectoryPiece& piece = trajectory.piece(i);
+    const double T = piece.duration_s;
+    // Relative motion of two links comes from the joints alone: bound it by sum_j rho_j |qdot_j|.
+    TrajVector vmax = TrajVector::Zero();
+    double tk = 1.0;
+    for (int k = 1; k < kTrajNumCoeffs; ++k) {
+      vmax += (k * tk) * piece.coeffs.row(k).transpose().cwiseAbs();
+      tk *= T;
+    }
+    double speed = 0.0;
+    for (int j = 0; j < kNumArmJoints; ++j) speed += radii.sweep_radius_m[static_cast<std::size_t>(j)] * vmax[2 + j];
+    const double n_lin = speed > 0.0 ? std::ceil(speed * T / half_step) : 1.0;
+    const int n = static_cast<int>(std::min(std::max(n_lin, 1.0), 1e7));
+    const double t0 = trajectory.piece_start_time_s(i);
+    for (int k = 1; k <= n; ++k) {
+      const double t = (k == n) ? trajectory.piece_start_time_s(i + 1) : t0 + T * k / n;
+      r = check_self(q_at(t));
+      if (r) return r;
+    }
+  }
+  return r;
+}
+
 }  // namespace porter::planner

@@ -106,5 +106,37 @@ TEST_F(MotionTest, TrajectoryThroughAThinColumnIsCaught) {
   EXPECT_FALSE(checker_->check_trajectory(*beside.trajectory).in_collision);
 }
 
+TEST_F(MotionTest, SelfCollisionAlongATrajectoryIsFoundBehindAnEnvironmentHit) {
+  // The base stands in a column (an environment hit at t = 0, which check_trajectory reports
+  // first) while the arm swings the T bar down through the base and back.
+  checker_->set_map(room_with({column(0.0, 0.0, 0.1)}));
+  JointVector carry, down;
+  carry << 0.0, 0.6, -0.9, 0.0, 0.5, 0.0;
+  down << 3.0, 2.8, -0.3, 0.0, 0.0, 0.0;  // self-colliding (test_self_collision.cpp)
+  ASSERT_TRUE(checker_->check_self(down).in_collision);
+  ASSERT_FALSE(checker_->check_self(carry).in_collision);
+  auto arm_motion = [](const JointVector& a, const JointVector& b) {
+    TrajVector p0 = TrajVector::Zero(), p1 = TrajVector::Zero(), zero = TrajVector::Zero();
+    p0.tail<kNumArmJoints>() = a;
+    p1.tail<kNumArmJoints>() = b;
+    std::vector<TrajectoryPiece> pieces(2);
+    pieces[0].duration_s = pieces[1].duration_s = 4.0;
+    pieces[0].coeffs = quintic_hermite(p0, zero, zero, p1, zero, zero, 4.0);
+    pieces[1].coeffs = quintic_hermite(p1, zero, zero, p0, zero, zero, 4.0);
+    return Trajectory::create(pieces, 0.0);
+  };
+  const TrajectoryResult swing = arm_motion(carry, down), still = arm_motion(carry, carry);
+  ASSERT_TRUE(swing.ok());
+  ASSERT_TRUE(still.ok());
+  const CollisionResult first = checker_->check_trajectory(*swing.trajectory);
+  EXPECT_TRUE(first.in_collision);
+  EXPECT_EQ(first.other_link, -1) << "the environment hit comes first";
+  const CollisionResult self = checker_->check_trajectory_self(*swing.trajectory);
+  EXPECT_TRUE(self.in_collision);
+  EXPECT_GE(self.other_link, 0);
+  EXPECT_TRUE(checker_->check_trajectory(*still.trajectory).in_collision);
+  EXPECT_FALSE(checker_->check_trajectory_self(*still.trajectory).in_collision);
+}
+
 }  // namespace
 }  // namespace porter::planner

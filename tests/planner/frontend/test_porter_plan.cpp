@@ -65,6 +65,24 @@ TEST_F(PorterPlan, MidStageWritesTheTrajectoryAndTheDirectExecutionDecision) {
   EXPECT_EQ(run("--scene " + scene("empty") + " --stages full"), 0);
 }
 
+TEST_F(PorterPlan, SelfCollidingMidendTrajectoryIsSolvedAgainCloserToThePath) {
+  // Bridge h_b = 1.1, seed 17: the first mid-end trajectory folds link 4 into link 1 (the arm
+  // leaves the front-end's arm path by up to rho_m); the retry with half the arm residual bound
+  // is collision-free and executed directly. Budgets large enough that no stage stops on time.
+  EXPECT_EQ(run("--scene " + scene("bridge") + " --set h_b=1.1 --seed 17 --stages mid --frontend-budget-ms 20000" +
+                " --midend-budget-ms 20000 --out " + (dir_ / "s.json").string()),
+            0)
+      << file("stderr.txt");
+  const auto doc = nlohmann::json::parse(file("s.json"));
+  ASSERT_TRUE(doc["midend"]["self_collision_retry"].is_string()) << "the fixture needs a self-colliding first solve";
+  EXPECT_NE(doc["midend"]["self_collision_retry"].get<std::string>().find("0.35 -> 0.175 rad"), std::string::npos);
+  EXPECT_TRUE(doc["midend"]["direct_execution"].get<bool>());
+  EXPECT_TRUE(doc["final_check"]["collision_free"].get<bool>());
+  // Without a self-collision there is no retry.
+  EXPECT_EQ(run("--scene " + scene("empty") + " --stages mid --out " + (dir_ / "e.json").string()), 0);
+  EXPECT_TRUE(nlohmann::json::parse(file("e.json"))["midend"]["self_collision_retry"].is_null());
+}
+
 TEST_F(PorterPlan, InvalidStartIsExitCode4) {
   std::ifstream in(scene("empty"));
   std::stringstream text;

@@ -88,6 +88,11 @@ class KernelCollisionChecker final : public CollisionChecker {
   CollisionResult check_environment(const RobotConfiguration& config) const;
   /// Self-collision part of check(); joint-limit violations are reported as in check().
   CollisionResult check_self(const JointVector& q_rad) const;
+  /// Self-collision (and joint limits) along a trajectory: the arm at samples where no point moves
+  /// more than motion_step_m / 2 relative to the base between neighbours (joint rates only; the
+  /// base motion does not change self-collision). Unlike check_trajectory(), which reports the
+  /// first hit of any kind, this finds a self-collision even where the environment is hit first.
+  CollisionResult check_trajectory_self(const Trajectory& trajectory) const;
 
   /// Number of intervals check_motion() splits the segment into.
   int motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const;
