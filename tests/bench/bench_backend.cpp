@@ -5,6 +5,11 @@
 //   porter-bench-backend ablation [seeds]   the paper's Table I: bridge h_b = 1.1 .. 0.8, front-end
 //                                           80 ms, optimization (mid-end + back-end) 300 ms,
 //                                           kc_svsdf vs svsdf_per_link on the same warm starts
+//   porter-bench-backend probe [h_b seed fe_budget]  cost along -grad at the warm start, frozen
+//                                           ball-search decisions vs Algorithm 1 at every evaluation,
+//                                           then 0.3 s and 3 s solves both ways (environment:
+//                                           PORTER_PROBE_SLOPES=1 adds slope vs FD along -grad,
+//                                           PORTER_PROBE_REFRESH=k sets refresh_every_iterations)
 //   porter-bench-backend synthetic [seeds]  the same comparison on fixed colliding warm starts
 //                                           (straight pass through the hole, perturbed), which
 //                                           isolates the back-end from the front-end
@@ -43,6 +48,7 @@
 
 #include "backend_fixtures.hpp"
 #include "porter/backend/backend.hpp"
+#include "porter/backend/backend_problem.hpp"
 #include "porter/backend/kc_svsdf.hpp"
 #include "porter/backend/recheck_margins.hpp"
 #include "porter/baselines/safety_models.hpp"
@@ -53,6 +59,7 @@
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/frontend/frontend.hpp"
 #include "porter/midend/midend.hpp"
+#include "porter/midend/reference_path.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 #include "synthetic_paths.hpp"
 
@@ -348,6 +355,81 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
   }
 }
 
+
+/// The back-end cost along -grad at the warm start (issue 6): f(x0 - a g/|g|) - f(x0) against the
+/// first-order prediction -a |g| (a: step in the decision vector's norm), with the ball-search decisions frozen at x0 and without.
+void bench_probe(double h_b, int seed, double fe_budget) {
+  auto s = load("bridge", h_b);
+  frontend::FrontEnd fe(s->model, *s->checker);
+  fe.set_map(s->grid);
+  const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), fe_budget, 0.3);
+  if (!w.ok) {
+    std::printf("seed %d: %s\n", seed, w.note.c_str());
+    return;
+  }
+  std::printf("bridge h_b %.1f seed %d: %d pieces, mid-end %s\n", h_b, seed, w.trajectory->num_pieces(),
+              w.collision_free ? "collision-free" : "in collision");
+  for (bool freeze : {false, true}) {
+    baselines::SafetyTermSettings ts = term_settings(*s);
+    ts.svsdf.freeze_ball_decisions = freeze;
+    backend::SvsdfSafetyTerm term(s->model, *s->sdf, ts.svsdf);
+    term.prepare(s->grid, *w.trajectory);
+    backend::BackendSettings bs;
+    const midend::MidendLimits limits = midend::MidendLimits::from_robot(s->model);
+    midend::ReferenceBuild ref = midend::build_reference_path(w.path, limits, bs.problem);
+    if (ref.outcome != midend::ReferenceOutcome::kOk) return;
+    backend::BackendProblem problem(std::move(ref.path), limits, bs.problem, term);
+    Eigen::VectorXd x0;
+    if (!problem.decision_from_trajectory(*w.trajectory, x0)) return;
+    const int n = problem.num_variables();
+    Eigen::VectorXd g(n), x(n);
+    backend::BackendCost c0;
+    const double f0 = problem.evaluate(x0.data(), g.data(), &c0);
+    std::printf("  %s: f0 %.6g (J_s %.6g), |g| %.4g\n", freeze ? "frozen at x0" : "Algorithm 1 every evaluation", f0,
+                c0.safety, g.norm());
+    for (double a : {1e-7, 1e-6, 1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 5e-2}) {
+      x = x0 - (a / g.norm()) * g;
+      backend::BackendCost c;
+      const double f = problem.evaluate(x.data(), nullptr, &c);
+      std::printf("    step %.0e: df %+.6g  (predicted %+.6g), dJ_s %+.6g\n", a, f - f0, -a * g.norm(),
+                  c.safety - c0.safety);
+    }
+    if (freeze && std::getenv("PORTER_PROBE_SLOPES")) {
+      const Eigen::VectorXd d = -g / g.norm();
+      Eigen::VectorXd ga(n);
+      for (int i = 0; i <= 20; ++i) {
+        const double a = 5e-4 * i, h = 1e-6;
+        x = x0 + a * d;
+        backend::BackendCost ca;
+        const double fa = problem.evaluate(x.data(), ga.data(), &ca);
+        x = x0 + (a + h) * d;
+        const double fp = problem.evaluate(x.data(), nullptr, nullptr);
+        x = x0 + (a - h) * d;
+        const double fm = problem.evaluate(x.data(), nullptr, nullptr);
+        std::printf("    a %.4f: f-f0 %+10.4g J_s %.6g slope %+10.5g fd %+10.5g\n", a, fa - f0, ca.safety, ga.dot(d),
+                    (fp - fm) / (2 * h));
+      }
+    }
+  }
+  const char* env = std::getenv("PORTER_PROBE_REFRESH");
+  const int refresh = env ? std::atoi(env) : 0;
+  for (double budget : {0.3, 3.0}) {
+    for (bool freeze : {false, true}) {
+      baselines::SafetyTermSettings ts = term_settings(*s);
+      ts.svsdf.freeze_ball_decisions = freeze;
+      auto term = baselines::make_safety_term(baselines::SafetyModel::kKcSvsdf, s->model, s->sdf.get(), ts);
+      backend::BackendSettings bs;
+      bs.refresh_every_iterations = refresh;
+      const backend::BackEnd be(s->model, bs);
+      const backend::BackendResult r = be.solve(w.path, *w.trajectory, s->grid, *term, budget, s->checker.get());
+      std::printf("  budget %.1f s, %s: %s %.0f ms, %d it, %d evals, rounds %d, J_s %.3g -> %.3g, check %s | %s\n", budget,
+                  freeze ? "frozen" : "not frozen", backend::to_string(r.status), 1e3 * r.elapsed_s, r.iterations,
+                  r.evaluations, r.rounds,
+                  r.initial_cost.safety, r.final_cost.safety, backend::to_string(r.check), r.message.c_str());
+    }
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -357,6 +439,12 @@ int main(int argc, char** argv) {
   if (section == "scenes" || section == "all") bench_scenes(seeds);
   if (section == "ablation" || section == "all") bench_ablation(seeds);
   if (section == "synthetic" || section == "all") bench_synthetic(seeds);
+  if (section == "probe") {
+    const double h_b = argc > 2 ? std::atof(argv[2]) : 1.1;
+    const int seed = argc > 3 ? std::atoi(argv[3]) : 12;
+    const double fe_budget = argc > 4 ? std::atof(argv[4]) : 0.08;
+    bench_probe(h_b, seed, fe_budget);
+  }
   if (section == "profile") {
     const std::string scene = argc > 3 ? argv[3] : "bridge";
     const double h_b = argc > 4 ? std::atof(argv[4]) : -1.0;

@@ -50,6 +50,8 @@ struct SolveContext {
   int rechecks = 0;
   double check_s = 0.0;
   bool found_free = false;      ///< an accepted iterate passed the re-check: stopped there
+  int refresh_every = 0;        ///< BackendSettings::refresh_every_iterations
+  bool refresh_requested = false;  ///< the round ended to refresh the safety term's decisions
 };
 
 /// What an evaluation reports once the budget is gone: the line search cannot accept a step, so
@@ -113,6 +115,10 @@ int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t*
     ctx->budget_hit = true;
     return 1;
   }
+  if (ctx->refresh_every > 0 && k >= ctx->refresh_every) {
+    ctx->refresh_requested = true;
+    return 1;
+  }
   return 0;
 }
 
@@ -149,6 +155,7 @@ bool validate_settings(const BackendSettings& s, std::string* why) {
   if (s.recheck_every_iterations < 0) return fail("recheck_every_iterations must be >= 0");
   if (!(s.weight_escalation_factor >= 1.0) || !std::isfinite(s.weight_escalation_factor)) return fail("weight_escalation_factor must be >= 1");
   if (s.max_weight_escalations < 0) return fail("max_weight_escalations must be >= 0");
+  if (s.refresh_every_iterations < 0) return fail("refresh_every_iterations must be >= 0");
   return true;
 }
 
@@ -215,23 +222,41 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   ctx.stop_after_safe = settings_.stop_after_safe_iterations;
   ctx.checker = checker;
   ctx.recheck_every = settings_.recheck_every_iterations;
+  ctx.refresh_every = settings_.refresh_every_iterations;
   const auto t_opt = Clock::now();
   lbfgsfloatval_t fx = 0.0;
   int code = LBFGS_SUCCESS;
   // Rounds: L-BFGS from the current iterate; when it stops short of the budget with the re-check
-  // still failing, the safety weight is raised and it continues (see BackendSettings).
+  // still failing, the safety weight is raised and it continues (see BackendSettings). Each round
+  // starts with the safety term's decisions refreshed (its cost is continuous within a round).
   double weight_scale = 1.0;
   int rounds = 0;
+  int escalations = 0;
   for (;;) {
     problem.set_safety_scale(weight_scale);
+    safety.refresh_decisions();
     ctx.best_f = std::numeric_limits<double>::infinity();
     ctx.round_iterations = 0;
+    ctx.refresh_requested = false;
     param.max_iterations = settings_.max_iterations - ctx.iterations;  // the cap is over all rounds
     code = lbfgs(n, x.data, &fx, evaluate_cb, progress_cb, &ctx, &param);
     ctx.iterations += ctx.round_iterations;
     ++rounds;
-    if (ctx.found_free || ctx.stopped_safe || ctx.budget_hit || ctx.expired || !checker) break;
-    if (rounds > settings_.max_weight_escalations || !std::isfinite(fx)) break;
+    if (ctx.found_free || ctx.stopped_safe || ctx.budget_hit || ctx.expired) break;
+    if (ctx.refresh_requested) {
+      // Ended only to refresh: continue from here with the same weight unless out of budget.
+      if (seconds_since(start) >= budget_s) {
+        ctx.budget_hit = true;
+        break;
+      }
+      if (ctx.iterations >= settings_.max_iterations) {
+        code = LBFGSERR_MAXIMUMITERATION;
+        break;
+      }
+      continue;
+    }
+    if (!checker) break;
+    if (escalations >= settings_.max_weight_escalations || !std::isfinite(fx)) break;
     if (seconds_since(start) >= budget_s || ctx.iterations >= settings_.max_iterations) break;
     const bool stopped = code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
                          code == LBFGSERR_MAXIMUMITERATION || midend::lbfgs_code_is_stall(code);
@@ -247,6 +272,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
       break;
     }
     weight_scale *= settings_.weight_escalation_factor;
+    ++escalations;
   }
   r.optimize_s = seconds_since(t_opt);
   r.lbfgs_code = code;
@@ -296,7 +322,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     r.message = detail;
     if (ctx.stopped_safe) r.message += " (collision term zero: stopped early)";
     if (ctx.found_free) r.message += " (kernel re-check passed: stopped there)";
-    if (rounds > 1) r.message += "; safety weight x" + std::to_string(static_cast<int>(weight_scale));
+    if (escalations > 0) r.message += "; safety weight x" + std::to_string(static_cast<int>(weight_scale));
   }
   if (has_trajectory(r.status)) {
     std::optional<Trajectory> traj = problem.trajectory(x1.data());

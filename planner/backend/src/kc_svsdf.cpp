@@ -23,6 +23,8 @@ void KcSvsdfStats::add(const KcSvsdfStats& o) {
   ball_filtered += o.ball_filtered;
   filter_relaxed += o.filter_relaxed;
   window_edge_hits += o.window_edge_hits;
+  replays += o.replays;
+  surrogates += o.surrogates;
 }
 
 void KcSvsdfResult::add_gradient(const Trajectory& trajectory, int link, double weight,
@@ -45,9 +47,11 @@ KcSvsdf::KcSvsdf(const RobotSdf& sdf, const SweptBody& body, const KcSvsdfSettin
 }
 
 void KcSvsdf::evaluate(const Eigen::Vector3d& p, std::uint32_t needed, KcSvsdfResult& out, double d_cap,
-                       const TimeHints* hints) {
+                       const TimeHints* hints, BallDecisions* decisions, bool record) {
   ++stats_.queries;
   hints_ = hints;
+  decisions_ = decisions;
+  record_ = record;
   for (LinkDistance& l : out.links) {
     l.computed = false;
     l.far = false;
@@ -109,6 +113,8 @@ void KcSvsdf::ensure(int j, const Eigen::Vector3d& p, KcSvsdfResult& out, bool e
     l.computed = true;
     return;
   }
+  l.replayed = false;
+  l.surrogate = false;
   l.g = v.g;
   l.t_star_s = v.t_star_s;
   l.iterations = 0;
@@ -127,17 +133,34 @@ void KcSvsdf::ensure(int j, const Eigen::Vector3d& p, KcSvsdfResult& out, bool e
   } else {
     ++stats_.inside_links;
     l.inside = true;
-    if (settings_.kinematic_filter && j >= 2) {
-      ensure(j - 2, p, out, true);
-      ensure(j - 1, p, out, true);
+    const bool frozen = decisions_ && !record_;
+    if (frozen && !(*decisions_)[static_cast<std::size_t>(j)].valid) {
+      // No decision taken for this pair at the last refresh: g_j(p) stands for D (see header).
+      ++stats_.surrogates;
+      l.surrogate = true;
+      l.d = v.g;
+      l.grad_p = v.grad_p;
+      l.escape = v.d_config;
+      l.on_window_edge = v.on_window_edge;
+      l.terms.assign(1, v.sensitivity);
+      l.weights.assign(1, 1.0);
+    } else {
+      if (settings_.kinematic_filter && j >= 2 && !frozen) {
+        ensure(j - 2, p, out, true);
+        ensure(j - 1, p, out, true);
+      }
+      // The ball search reads p's profile over the window (the base's g_0 came from the full
+      // search; the searches above did not keep one): search the window again with the profile.
+      SearchOptions with_profile;
+      with_profile.profile = &profile_;
+      with_profile.hint_t_s = v.t_star_s;
+      eval_.search(j, p, out.window_lo_s, out.window_hi_s, v, with_profile);
+      if (frozen) {
+        replay(j, p, v, (*decisions_)[static_cast<std::size_t>(j)], out);
+      } else {
+        ball_search(j, p, v, out);
+      }
     }
-    // The ball search reads p's profile over the window (the base's g_0 came from the full
-    // search; the searches above did not keep one): search the window again with the profile.
-    SearchOptions with_profile;
-    with_profile.profile = &profile_;
-    with_profile.hint_t_s = v.t_star_s;
-    eval_.search(j, p, out.window_lo_s, out.window_hi_s, v, with_profile);
-    ball_search(j, p, v, out);
   }
   l.computed = true;
   out.G += l.escape;
@@ -172,6 +195,7 @@ void KcSvsdf::ball_search(int j, const Eigen::Vector3d& p, const SvsdfValue& at_
 
   double r = settings_.initial_radius_m;
   a_.clear();
+  directions_.clear();
   l.terms.clear();
   l.weights.clear();
   term_grads_.clear();
@@ -242,6 +266,7 @@ void KcSvsdf::ball_search(int j, const Eigen::Vector3d& p, const SvsdfValue& at_
     l.terms.push_back(vy.sensitivity);
     term_grads_.push_back(vy.grad_p);
     a_.push_back(vy.grad_p.dot(best_dir));
+    directions_.push_back(best_dir);
     ++l.iterations;
     r -= vy.g;
     if (r <= 0.0) {
@@ -252,9 +277,56 @@ void KcSvsdf::ball_search(int j, const Eigen::Vector3d& p, const SvsdfValue& at_
   }
   l.d = -r;
   l.escape = J.transpose() * (-r * s_final);  // J^T (p - y*), y* = p + r s
+  if (decisions_ && record_) {
+    BallDecision& rec = (*decisions_)[static_cast<std::size_t>(j)];
+    rec.valid = true;
+    rec.directions = directions_;
+    rec.final_direction = s_final;
+  }
+  finish_terms(l, at_p);
+}
+
+void KcSvsdf::replay(int j, const Eigen::Vector3d& p, const SvsdfValue& at_p, const BallDecision& rec,
+                     KcSvsdfResult& out) {
+  ++stats_.replays;
+  LinkDistance& l = out.links[static_cast<std::size_t>(j)];
+  l.replayed = true;
+  eval_.body().evaluate(at_p.t_star_s, state_, j);
+  PointJacobian J;
+  ChainKinematics::point_jacobian(state_.kin, j, p, J);
+  double r = settings_.initial_radius_m;
+  a_.clear();
+  l.terms.clear();
+  l.weights.clear();
+  term_grads_.clear();
+  for (const Eigen::Vector3d& dir : rec.directions) {
+    ++stats_.ball_iterations;
+    ++stats_.ball_samples;
+    const Eigen::Vector3d y = p + r * dir;
+    int k = -1;
+    eval_.coarse_minimum_near(j, y, profile_, r, -std::numeric_limits<double>::infinity(), &k);
+    SvsdfValue vy;
+    eval_.refine_sample(j, y, k, out.window_lo_s, out.window_hi_s, vy);
+    l.on_window_edge = l.on_window_edge || vy.on_window_edge;
+    l.terms.push_back(vy.sensitivity);
+    term_grads_.push_back(vy.grad_p);
+    a_.push_back(vy.grad_p.dot(dir));
+    ++l.iterations;
+    r -= vy.g;
+    if (r <= 0.0) {
+      r = 0.0;
+      break;
+    }
+  }
+  l.d = -r;
+  l.escape = J.transpose() * (-r * rec.final_direction);
+  finish_terms(l, at_p);
+}
+
+void KcSvsdf::finish_terms(LinkDistance& l, const SvsdfValue& at_p) {
   if (l.terms.empty()) {
     // Saturated at -r0: no dependence on the trajectory; fall back to g_j(p)'s gradient.
-    l.saturated = r >= settings_.initial_radius_m;
+    l.saturated = -l.d >= settings_.initial_radius_m;
     l.terms.assign(1, at_p.sensitivity);
     l.weights.assign(1, 1.0);
     l.grad_p = at_p.grad_p;

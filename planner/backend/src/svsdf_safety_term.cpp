@@ -66,6 +66,13 @@ void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& init
     index_points();
   }
   hints_.assign(points_.size(), no_hints());
+  refresh_decisions();
+}
+
+void SvsdfSafetyTerm::refresh_decisions() {
+  decisions_.clear();
+  decisions_.resize(points_.size());
+  record_next_ = true;
 }
 
 void SvsdfSafetyTerm::index_points() {
@@ -187,7 +194,14 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
     }
     ++w.stats.candidate_points;
     TimeHints& hint = hints_[i];
-    w.kc.evaluate(o.p_W, mask, w.result, cap, &hint);
+    BallDecisions* decisions = nullptr;
+    if (settings_.freeze_ball_decisions) {
+      // Point i is run by one worker per evaluate(): its slot is not shared.
+      std::unique_ptr<BallDecisions>& slot = decisions_[i];
+      if (!slot) slot = std::make_unique<BallDecisions>();
+      decisions = slot.get();
+    }
+    w.kc.evaluate(o.p_W, mask, w.result, cap, &hint, decisions, record_next_);
     hint[0] = static_cast<float>(w.result.t0_star_s);
     for (int j = 0; j < kNumLinks; ++j) {
       const LinkDistance& l = w.result.links[static_cast<std::size_t>(j)];
@@ -211,6 +225,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
   body_.reset(trajectory);
   if (cell_start_.size() < 2) index_points();  // points set by set_points()
   if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
+  if (decisions_.size() != points_.size()) refresh_decisions();
   find_candidates();
   std::vector<std::thread> helpers;
   for (std::size_t w = 1; w < workers_.size(); ++w) {
@@ -218,6 +233,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
   }
   run(*workers_[0], 0, trajectory);
   for (std::thread& t : helpers) t.join();
+  record_next_ = false;
   SafetyStats total;
   total.obstacle_points = static_cast<int>(points_.size());
   double cost = 0.0;

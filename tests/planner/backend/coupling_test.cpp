@@ -61,6 +61,8 @@ Descent optimize(bool kinematic_filter, int steps) {
     grad.reset(1);
     SafetyStats stats;
     run.z.push_back(z);
+    // Every step is an accepted iterate: Algorithm 1 decides afresh there (svsdf_safety_term.hpp).
+    term.refresh_decisions();
     run.cost.push_back(term.evaluate(traj, grad, &stats));
     run.inside.push_back(stats.inside);
     SweptBody body(model);

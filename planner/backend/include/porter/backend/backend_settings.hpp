@@ -48,6 +48,13 @@ struct BackendSettings {
   /// iterate, at most max_weight_escalations times. >= 1.
   double weight_escalation_factor = 4.0;
   int max_weight_escalations = 4;  ///< >= 0
+
+  // --- Frozen decisions (SafetyTerm::refresh_decisions, svsdf_safety_term.hpp) ------------------
+  /// The safety term's discrete decisions are taken again at the start of every L-BFGS round
+  /// (weight escalations included). With this > 0, a round also ends after this many accepted
+  /// iterates and the next one starts there with fresh decisions and the same weight (L-BFGS
+  /// memory is lost); 0: only at rounds. Such restarts do not count as escalations. >= 0.
+  int refresh_every_iterations = 0;
 };
 
 }  // namespace porter::backend

@@ -37,6 +37,29 @@
 // with dg_k the envelope-theorem gradient of g_j at y_k (svsdf.hpp). A saturated D has no gradient;
 // then g_j(p)'s is used so that the penalty still pushes the link out (documented deviation).
 //
+// Frozen decisions (Porter's choice; issue 6). The ball search takes discrete decisions: which
+// sphere samples survive the KinematicFilter, which survivor is the worst violator y*_k, and when
+// epsilon stops it. Each flips under tiny changes of the trajectory and D jumps with it (measured on
+// bridge h_b 1.1 seed 12 at the warm start, along -grad: the cost changed by -0.16 at step 1e-6,
+// matching the gradient, but by +31 at 1e-5 and +170 at 1e-3; L-BFGS stalled after one iteration).
+// evaluate() therefore accepts a BallDecisions record per query point and a `record` flag:
+//  - record = true (the caller's refresh point): Algorithm 1 as above for every inside link, whose
+//    choices (the directions s_k of the radius updates, the final direction of y*) are written to
+//    the record (entries are only ever set here; the caller clears them);
+//  - record = false, inside link j with a valid entry: the same updates are replayed with those
+//    directions held fixed, with neither filter nor argmax nor epsilon test: r_0 = r0,
+//    r_{k+1} = r_k - g_j(p + r_k s_k) for the recorded k (stopping at r = 0), D[j] = -r_K,
+//    escape_j = J_j^T (-r_K s_final). This D is continuous in the trajectory and p while the pair
+//    stays inside, and the gradient formula above is exact for it;
+//  - record = false, inside link j without an entry (it was outside at the refresh point):
+//    D[j] = g_j(p) (the link's own depth at t*, continuous through 0 and FD-exact; LinkDistance::
+//    surrogate). Deciding such a pair at whichever line-search point first sees it inside would
+//    tie its D to a far-away trial point and make D jump where it is shallow (measured: the
+//    line search then ping-pongs across that jump).
+// At the refresh point the result is Algorithm 1's. The caller decides where refresh points are
+// (svsdf_safety_term.hpp: the first evaluation of each back-end round). A replayed link does not
+// read G, so it does not compute its upstream links.
+//
 // Laziness (not a change of the algorithm): evaluate() computes the links in `needed` and only the
 // links their outputs depend on. The filter of link j reads G[j-2] and G[j-1], which only links j-2
 // and j-1 contribute to (joint i moves links i..7), so an inside link j >= 2 first computes links
@@ -85,6 +108,17 @@ inline constexpr std::uint32_t kAllLinks = (1u << kNumLinks) - 1;
 /// They only speed the t* scans up (SearchOptions::hint_t_s); results do not depend on them.
 using TimeHints = std::array<float, kNumLinks>;
 
+/// The discrete choices of one inside link's ball search (see "Frozen decisions").
+struct BallDecision {
+  bool valid = false;
+  /// s_k of each recorded radius update (y_k = p + r_k s_k), unit vectors, world frame.
+  std::vector<Eigen::Vector3d> directions;
+  /// Direction of the final y* (the escape), unit, world frame.
+  Eigen::Vector3d final_direction = Eigen::Vector3d::UnitZ();
+};
+/// One query point's records, per link.
+using BallDecisions = std::array<BallDecision, kNumLinks>;
+
 /// D[j] and everything needed to differentiate it.
 struct LinkDistance {
   bool computed = false;
@@ -100,6 +134,8 @@ struct LinkDistance {
   /// Some minimum behind D lies on the edge of its search window (or of a ball sample's bracket):
   /// the gradient ignores the window's own motion there (svsdf.hpp), so it is approximate.
   bool on_window_edge = false;
+  bool replayed = false;          ///< D came from a frozen BallDecision (see "Frozen decisions")
+  bool surrogate = false;         ///< inside without a frozen entry: D = g_j(p) ("Frozen decisions")
   Eigen::Vector3d grad_p = Eigen::Vector3d::Zero();  ///< dD/dp
   DofVector escape = DofVector::Zero();              ///< the nabla_q^(j) added to G
   /// dD/d(trajectory) = sum_k weights[k] * terms[k].
@@ -129,6 +165,8 @@ struct KcSvsdfStats {
   std::int64_t ball_filtered = 0;     ///< samples rejected by the KinematicFilter
   std::int64_t filter_relaxed = 0;
   std::int64_t window_edge_hits = 0;  ///< a windowed t* on the window's edge (dt maybe too small)
+  std::int64_t replays = 0;           ///< inside links replayed from a frozen BallDecision
+  std::int64_t surrogates = 0;        ///< inside links without an entry (D = g_j(p))
   void add(const KcSvsdfStats& o);
 };
 
@@ -142,8 +180,11 @@ class KcSvsdf {
   /// says that D values above it are not used (the safety penalty passes s_thr): a link j >= 1 whose
   /// coarse scan proves g_j > d_cap is left `far` (value only, no refinement, no gradient, no
   /// escape) unless a ball search needs its escape. The base is always searched exactly (t0*).
+  /// `decisions` (optional, p's own record) and `record`: see "Frozen decisions"; null runs
+  /// Algorithm 1 for every inside link.
   void evaluate(const Eigen::Vector3d& p_W, std::uint32_t needed, KcSvsdfResult& out,
-                double d_cap = std::numeric_limits<double>::infinity(), const TimeHints* hints = nullptr);
+                double d_cap = std::numeric_limits<double>::infinity(), const TimeHints* hints = nullptr,
+                BallDecisions* decisions = nullptr, bool record = false);
 
   SvsdfEvaluator& svsdf() { return eval_; }
   const SvsdfEvaluator& svsdf() const { return eval_; }
@@ -156,16 +197,23 @@ class KcSvsdf {
     return hints_ ? static_cast<double>((*hints_)[static_cast<std::size_t>(j)]) : std::numeric_limits<double>::quiet_NaN();
   }
   void ball_search(int j, const Eigen::Vector3d& p, const SvsdfValue& at_p, KcSvsdfResult& out);
+  /// The ball search's updates along the recorded directions (see "Frozen decisions").
+  void replay(int j, const Eigen::Vector3d& p, const SvsdfValue& at_p, const BallDecision& rec, KcSvsdfResult& out);
+  /// D's gradient weights and grad_p from the recorded terms (shared by both searches).
+  void finish_terms(LinkDistance& l, const SvsdfValue& at_p);
 
   KcSvsdfSettings settings_;
   SvsdfEvaluator eval_;
   SvsdfValue base_;                     ///< g_0(p) of the current query
   double d_cap_ = std::numeric_limits<double>::infinity();
   const TimeHints* hints_ = nullptr;
+  BallDecisions* decisions_ = nullptr;  ///< of the current query (null: none)
+  bool record_ = false;                 ///< the current query records its decisions
   ScanProfile profile_;                 ///< p's scan over the window of the link being searched
   std::vector<Eigen::Vector3d> lattice_;
   std::vector<Eigen::Vector3d> term_grads_;  ///< grad_p g at each recorded y_k
   std::vector<double> a_;                    ///< grad g_k . s_k per recorded iteration
+  std::vector<Eigen::Vector3d> directions_;  ///< s_k per recorded iteration
   BodyState state_;
   KcSvsdfStats stats_;
 };

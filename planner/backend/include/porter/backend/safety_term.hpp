@@ -41,6 +41,12 @@ class SafetyTerm {
   /// reset() to the trajectory's piece count. Fills *stats when non-null. Must not throw.
   virtual double evaluate(const Trajectory& trajectory, TrajectoryGradient& grad, SafetyStats* stats) = 0;
 
+  /// Lets a term with discrete internal decisions take them again at the next evaluate() (see
+  /// svsdf_safety_term.hpp "Frozen decisions"); between two calls such a term is a continuous
+  /// function of the trajectory. The back-end calls it at the start of each L-BFGS round. Default:
+  /// nothing to refresh. Must not throw.
+  virtual void refresh_decisions() {}
+
   /// "kc_svsdf", "svsdf_per_link", "spheres".
   virtual std::string name() const = 0;
 };
