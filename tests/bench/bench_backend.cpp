@@ -36,6 +36,11 @@
 //   $ porter-bench-backend profile 2 forest -1 1.0 1 1
 //   seed 2 (T 123.8 s): eval 96.8 ms; 300 ms solve: 0 iterations (first line search)
 // The ablation is recorded with scripts/bench-ablation (porter-plan end to end), see README.
+//
+// Issue 6 J_s speed-up (lean t* scan, SDF prefilter level, per-interval motion bounds), on afaa8df:
+//   $ porter-bench-backend profile 1 bridge 1.1 0.08 12 40   (same J_s to 10 digits)
+//   alternated: eval 3.71 ms, reference (lean_scan off, sdf_prefilter off) 5.45 ms; 507 vs 825 link queries
+//   (afaa8df itself: eval 7.2 ms, 825 candidates; in porter-plan 6.6 ms -> 2.9 ms per evaluation)
 
 #include <algorithm>
 #include <chrono>
@@ -338,12 +343,39 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
     const double ev = since(t0) / reps;
     const backend::SvsdfStats sv = term.svsdf_stats();
     const backend::KcSvsdfStats kc = term.kc_stats();
-    std::printf("seed %d: %d pieces T %.1f s, direct %d | prepare %.1f ms, %d points | eval %.1f ms: %d candidates, %d link queries, %d viol, %d inside | searches %lld, samples %lld/%lld, exact %lld, skipped %lld | ball it %lld samples %lld\n",
+    std::printf("seed %d: %d pieces T %.1f s, direct %d | prepare %.1f ms, %d points | eval %.1f ms: %d candidates, %d link queries, %d viol, %d inside | searches %lld, samples %lld/%lld/%lld (looked up/visited/in range), exact %lld, skipped %lld | ball it %lld samples %lld\n",
                 seed, w.trajectory->num_pieces(), w.trajectory->total_duration_s(), w.collision_free, 1e3 * prep,
                 st.obstacle_points, 1e3 * ev, st.candidate_points, st.link_queries, st.violations, st.inside,
-                (long long)sv.searches, (long long)sv.samples_evaluated, (long long)sv.samples_in_range,
+                (long long)sv.searches, (long long)sv.samples_evaluated, (long long)sv.samples_visited,
+                (long long)sv.samples_in_range,
                 (long long)sv.exact_evaluations, (long long)sv.skipped, (long long)kc.ball_iterations,
                 (long long)kc.ball_samples);
+    {
+      // The same evaluation with the slow references of the fast paths (lean t* scan, SDF
+      // prefilter level), alternated with the default so that both see the same machine load.
+      backend::SvsdfSafetySettings ref_settings = term_settings(*s).svsdf;
+      ref_settings.sdf_prefilter = false;
+      ref_settings.kc.svsdf.lean_scan = false;
+      backend::SvsdfSafetyTerm ref(s->model, *s->sdf, ref_settings);
+      ref.prepare(s->grid, *w.trajectory);
+      backend::TrajectoryGradient g_ref;
+      g_ref.reset(w.trajectory->num_pieces());
+      backend::SafetyStats st_ref;
+      double fast_s = 0.0, ref_s = 0.0;
+      double c_fast = 0.0, c_ref = 0.0;
+      for (int k = 0; k < reps; ++k) {
+        grad.reset(w.trajectory->num_pieces());
+        auto t1 = Clock::now();
+        c_fast = term.evaluate(*w.trajectory, grad, &st);
+        fast_s += since(t1);
+        g_ref.reset(w.trajectory->num_pieces());
+        t1 = Clock::now();
+        c_ref = ref.evaluate(*w.trajectory, g_ref, &st_ref);
+        ref_s += since(t1);
+      }
+      std::printf("   alternated: eval %.2f ms, reference (lean_scan off, sdf_prefilter off) %.2f ms; J_s %.10g vs %.10g; %d vs %d link queries\n",
+                  1e3 * fast_s / reps, 1e3 * ref_s / reps, c_fast, c_ref, st.link_queries, st_ref.link_queries);
+    }
     std::fflush(stdout);
     if (w.collision_free) continue;
     const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);

@@ -1,33 +1,20 @@
 #include "porter/backend/svsdf.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
+#include <limits>
+
+#include "scope_timer.hpp"
 
 namespace porter::backend {
 namespace {
+
+using detail::ScopeTimer;
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 /// Values closer than this are equal for the t* search (rounding of a field value near a
 /// converged minimum), m.
 constexpr double kRoundoff_m = 1e-12;
-
-/// Adds the scope's wall time to *sink when sink is non-null.
-class ScopeTimer {
- public:
-  explicit ScopeTimer(double* sink) : sink_(sink) {
-    if (sink_) start_ = std::chrono::steady_clock::now();
-  }
-  ~ScopeTimer() {
-    if (sink_) *sink_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-  }
-  ScopeTimer(const ScopeTimer&) = delete;
-  ScopeTimer& operator=(const ScopeTimer&) = delete;
-
- private:
-  double* sink_;
-  std::chrono::steady_clock::time_point start_;
-};
 
 }  // namespace
 
@@ -61,13 +48,19 @@ void SvsdfEvaluator::clear_scan() {
 }
 
 double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi, int hint_k, bool dense_lower,
-                            double level_cap, double margin_override) {
+                            double level_cap, double margin_override, bool uniform_skip) {
   clear_scan();
   const LinkSdf& sdf = sdf_->link(link);
   const Eigen::AlignedBox3d& box = sdf.body_bounds();
   const double err = sdf.fine().error_bound_m();
   // Either interpolant (fine or coarse grid) is within err_any of the true signed distance.
   const double err_any = std::max(err, sdf.coarse().error_bound_m());
+  // The box bounds below hold the true distance; the value looked up is within err_any of it
+  // (the coarse grid's bound where the fine grid does not reach). Subtracting only the fine
+  // grid's err (before issue 6's speed-up) let the scan miss samples whose coarse value was lower
+  // than the box distance - err: the scan's minimum was then not the samples' minimum
+  // (fast_paths_test compares the scans on this).
+  const double box_err = err_any;
   const double step = body_->max_step_m(link);
   double best = kInf;
   const double margin = margin_override >= 0.0 ? margin_override : 2.0 * step + 2.0 * err;
@@ -106,7 +99,7 @@ double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_
       if (body_->piece_first_sample(i) > k_hi) break;
       continue;
     }
-    const double lb = body_->piece_box(link, i).exteriorDistance(p) - err;
+    const double lb = body_->piece_box(link, i).exteriorDistance(p) - box_err;
     if (dense_lower) {
       for (int k = a; k <= b; ++k) lower_[static_cast<std::size_t>(k - k_lo)] = lb;
     }
@@ -141,26 +134,35 @@ double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_
     // i steps on above L - i step - err_any; those above best + margin are skipped unvisited.
     int k = range.first;
     while (k <= range.last) {
+      ++stats_.samples_visited;
       double sd_lower;
       if (values_[static_cast<std::size_t>(k)] != kInf) {
         sd_lower = values_[static_cast<std::size_t>(k)] - err_any;  // the hint or the seed
       } else {
         const Eigen::Vector3d p_L = body_->sample_pose(k, link).apply(p);
         const double box_d = box.exteriorDistance(p_L);
-        if (box_d - err > level()) {
+        if (box_d - box_err > level()) {
           sd_lower = box_d;
-          set_lower(k, box_d - err);
+          set_lower(k, box_d - box_err);
         } else {
           sd_lower = look_up(k, p_L, box_d);
         }
       }
+      // The motion bound is summed over the actual intervals (each at most `step`), so slow
+      // stretches of the trajectory are skipped in longer strides than the uniform bound allows;
+      // every skipped sample is still proven above the level (scan_reference() checks this).
       const double slack = sd_lower - err_any - level();
       int skip = 0;
-      if (slack > 0.0) {
+      if (slack > 0.0 && uniform_skip) {
         const double span = static_cast<double>(range.last - k);
         const double steps = step > 0.0 ? std::ceil(slack / step) - 1.0 : span;
         skip = static_cast<int>(std::min(span, std::max(0.0, steps)));
         for (int i = 1; dense_lower && i <= skip; ++i) set_lower(k + i, sd_lower - i * step - err_any);
+      } else if (slack > 0.0) {
+        skip = body_->samples_within_motion(link, k, range.last, slack);
+        for (int i = 1; dense_lower && i <= skip; ++i) {
+          set_lower(k + i, sd_lower - body_->motion_bound_m(link, k, k + i) - err_any);
+        }
       }
       k += 1 + skip;
     }
@@ -368,13 +370,26 @@ void SvsdfEvaluator::search(int link, const Eigen::Vector3d& p, double t_lo_s, d
   }
   const double reach = body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
   const double level_cap = options.prune_above_skip ? options.skip_above + reach : kInf;
-  const double margin_override = options.coarse_only ? std::max(0.0, options.band) : -1.0;
-  double coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, level_cap, margin_override);
+  // What the search reads from the scan: minima within `reach` of the coarse minimum (the rest
+  // are dropped below), each with its two neighbours compared against it (a neighbour left out is
+  // above the level, hence above any such minimum, so it compares the same), and the samples
+  // within the tie band. The reference scan also looks up the samples within the neighbours'
+  // reach (2 max_step + 2 err); the lean one stops at what is read.
+  const bool lean = settings_.lean_scan && profile == nullptr;
+  double margin_override = -1.0;
+  if (options.coarse_only) {
+    margin_override = std::max(0.0, options.band);
+  } else if (lean) {
+    margin_override = std::max(reach, options.band);
+  }
+  double coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, level_cap, margin_override, !lean);
   // The cap pruned at a level below best + margin, and the value is needed after all: some
   // samples that could hold a kept minimum may have been skipped, so scan again without the cap.
-  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
+  const double margin = margin_override >= 0.0
+                            ? margin_override
+                            : 2.0 * body_->max_step_m(link) + 2.0 * sdf_->link(link).fine().error_bound_m();
   if (!options.coarse_only && coarse <= level_cap && level_cap < coarse + margin) {
-    coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, kInf, -1.0);
+    coarse = scan(link, p, k_lo, k_hi, hint_k, profile != nullptr, kInf, margin_override, !lean);
   }
   if (profile) {
     profile->k_lo = k_lo;
@@ -456,72 +471,7 @@ double SvsdfEvaluator::coarse_minimum(int link, const Eigen::Vector3d& p, double
   int k_hi = body_->first_sample_at_or_after(hi);
   if (k_hi >= body_->num_samples() || body_->sample_time(k_hi) > hi) --k_hi;
   if (k_lo > k_hi) return evaluate_at(link, p, 0.5 * (lo + hi), nullptr);
-  return scan(link, p, k_lo, k_hi, -1, false, kInf, -1.0);
-}
-
-}  // namespace porter::backend
-
-namespace porter::backend {
-
-void SvsdfEvaluator::refine_sample(int link, const Eigen::Vector3d& p, int k, double t_lo_s, double t_hi_s,
-                                   SvsdfValue& out) {
-  const ScopeTimer timer(settings_.collect_timing ? &stats_.search_time_s : nullptr);
-  ++stats_.searches;
-  kept_f_ = kInf;
-  const double total = body_->duration_s();
-  const double lo = std::clamp(t_lo_s, 0.0, total);
-  const double hi = std::clamp(t_hi_s, lo, total);
-  const double t_k = std::clamp(body_->sample_time(k), lo, hi);
-  const double a = k > 0 ? std::max(lo, body_->sample_time(k - 1)) : lo;
-  const double b = k + 1 < body_->num_samples() ? std::min(hi, body_->sample_time(k + 1)) : hi;
-  finish(link, p, refine(link, p, a, t_k, b, lo, hi), lo, hi, out);
-  out.band_lo_s = out.band_hi_s = out.t_star_s;
-}
-
-double SvsdfEvaluator::coarse_minimum_near(int link, const Eigen::Vector3d& y, ScanProfile& profile,
-                                           double radius_m, double abort_below, int* argmin_k) {
-  const ScopeTimer timer(settings_.collect_timing ? &stats_.search_time_s : nullptr);
-  const LinkSdf& sdf = sdf_->link(link);
-  const int n = static_cast<int>(profile.lower.size());
-  if (n == 0 || sdf.empty()) {
-    if (argmin_k) *argmin_k = -1;
-    return sdf.empty() ? LinkSdf::kNoGeometryDistance_m : kInf;
-  }
-  const Eigen::AlignedBox3d& box = sdf.body_bounds();
-  const double err = sdf.fine().error_bound_m();
-  const double margin = 2.0 * body_->max_step_m(link) + 2.0 * err;
-  // Both interpolants are convex combinations of a 1-Lipschitz field's nodes: their slope is at
-  // most sqrt(3) (per-axis node differences <= h), hence the factor on the radius.
-  const double slack = 1.75 * radius_m + margin;
-  // Instants in order of p's proximity: y's minimum is usually among the first (early abort for
-  // losing directions), and once p's bound minus the slack exceeds the best, so do all later ones.
-  stats_.samples_in_range += n;
-  if (profile.order.size() != profile.lower.size()) {
-    profile.order.resize(profile.lower.size());
-    for (std::size_t i = 0; i < profile.order.size(); ++i) profile.order[i] = static_cast<int>(i);
-    std::sort(profile.order.begin(), profile.order.end(), [&profile](int a, int b) {
-      return profile.lower[static_cast<std::size_t>(a)] < profile.lower[static_cast<std::size_t>(b)];
-    });
-  }
-  const int seed = profile.order[0];
-  double best = sdf.distance_fast(body_->sample_pose(profile.k_lo + seed, link).apply(y));
-  int best_k = profile.k_lo + seed;
-  int evaluated = 1;
-  for (int r = 1; r < n && best >= abort_below; ++r) {
-    const int i = profile.order[static_cast<std::size_t>(r)];
-    if (profile.lower[static_cast<std::size_t>(i)] - slack > best) break;
-    const Eigen::Vector3d y_L = body_->sample_pose(profile.k_lo + i, link).apply(y);
-    if (box.exteriorDistance(y_L) - err > best + margin) continue;
-    const double v = sdf.distance_fast(y_L);
-    ++evaluated;
-    if (v < best) {
-      best = v;
-      best_k = profile.k_lo + i;
-    }
-  }
-  stats_.samples_evaluated += evaluated;
-  if (argmin_k) *argmin_k = best_k;
-  return best;
+  return scan(link, p, k_lo, k_hi, -1, false, kInf, -1.0, !settings_.lean_scan);
 }
 
 }  // namespace porter::backend

@@ -111,10 +111,11 @@ Eigen::Vector3i SvsdfSafetyTerm::cell_index(const Eigen::Vector3d& p) const {
 
 void SvsdfSafetyTerm::find_candidates() {
   masks_.assign(points_.size(), 0u);
+  tight_.assign(points_.size(), 0u);
   candidates_.clear();
   if (points_.empty()) return;
-  // Links are split over the workers (link j to worker j mod threads), each with its own masks;
-  // the masks are OR-ed in worker order (the result does not depend on timing).
+  // The (link, piece) pairs are split over the workers, each with its own masks; the masks are
+  // OR-ed in worker order (the result does not depend on timing).
   std::vector<std::thread> helpers;
   for (std::size_t w = 1; w < workers_.size(); ++w) {
     helpers.emplace_back([this, w] { mark_candidates(*workers_[w], static_cast<int>(w)); });
@@ -122,24 +123,40 @@ void SvsdfSafetyTerm::find_candidates() {
   mark_candidates(*workers_[0], 0);
   for (std::thread& t : helpers) t.join();
   for (const auto& w : workers_) {
-    for (std::size_t idx = 0; idx < points_.size(); ++idx) masks_[idx] |= w->masks[idx];
+    for (std::size_t idx = 0; idx < points_.size(); ++idx) {
+      masks_[idx] |= w->masks[idx];
+      tight_[idx] |= w->tight[idx];
+    }
   }
   for (std::size_t idx = 0; idx < points_.size(); ++idx) {
-    if (masks_[idx]) candidates_.push_back(static_cast<int>(idx));
+    // A pair can pass the SDF level on one piece and the box levels only on another: evaluated
+    // pairs are those passing both, somewhere.
+    tight_[idx] &= masks_[idx];
+    if (tight_[idx]) candidates_.push_back(static_cast<int>(idx));
   }
 }
 
 void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
   std::vector<std::uint32_t>& masks = worker.masks;
+  std::vector<std::uint32_t>& tight = worker.tight;
   masks.assign(points_.size(), 0u);
+  tight.assign(points_.size(), 0u);
   const int pieces = body_.trajectory().num_pieces();
-  for (int j = index; j < kNumLinks; j += static_cast<int>(workers_.size())) {
-    const double err = sdf_->link(j).fine().error_bound_m();
+  const int stride = static_cast<int>(workers_.size());
+  // Pairs numbered j * pieces + i: the payload's pieces (the most work) are spread over all workers.
+  for (int pair = index; pair < kNumLinks * pieces; pair += stride) {
+    const int j = pair / pieces;
+    const int i = pair % pieces;
+    const LinkSdf& sdf = sdf_->link(j);
+    const double err = sdf.fine().error_bound_m();
+    const double err_any = std::max(err, sdf.coarse().error_bound_m());
     const double widest = std::max(margin_[static_cast<std::size_t>(j)], ground_margin_[static_cast<std::size_t>(j)]);
-    const Eigen::AlignedBox3d& local = sdf_->link(j).body_bounds();
+    const Eigen::AlignedBox3d& local = sdf.body_bounds();
     const double step = body_.max_step_m(j);
     const std::uint32_t bit = 1u << j;
-    for (int i = 0; i < pieces; ++i) {
+    // The base's bit stays the box levels' own: it decides the base search's options (kc_svsdf.cpp).
+    const bool tighten = settings_.sdf_prefilter && j > 0 && !sdf.empty();
+    {
       const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
       if (box.isEmpty()) continue;
       const int first = body_.piece_first_sample(i), last = body_.piece_first_sample(i + 1);
@@ -153,9 +170,13 @@ void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
             for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
               const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
               const ObstaclePoint& o = points_[idx];
-              if ((masks[idx] & bit) || !(o.links & bit)) continue;
+              if (!(o.links & bit)) continue;
+              bool box_hit = (masks[idx] & bit) != 0;
+              bool sdf_hit = !tighten || (tight[idx] & bit) != 0;
+              if (box_hit && sdf_hit) continue;
               const double r = margin_of(o, j) + err;
               if (box.exteriorDistance(o.p_W) > r) continue;
+              const double r_sdf = margin_of(o, j) + err_any;
               // Level 2, in the link frame at the piece's samples: between samples every link
               // point moves at most `step`, so the link stays farther than (distance to its
               // local box at the nearest sample) - step from the point. The local box bounds the
@@ -163,15 +184,37 @@ void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
               // per sample: a sample whose box distance exceeds r + (m + 1) step also proves the
               // link farther than r over the next m sample intervals, which are skipped (they
               // could only set the bit for a point the penalty would not see).
+              // Level 3 (tighten): the same with the SDF's lower bound and r_sdf; looked up only
+              // where the box does not already rule the sample out.
               for (int s = first; s <= last;) {
-                const double d = local.exteriorDistance(body_.sample_pose(s, j).apply(o.p_W));
-                if (d <= r + step) {
-                  masks[idx] |= bit;
-                  break;
+                const Eigen::Vector3d p_L = body_.sample_pose(s, j).apply(o.p_W);
+                const double d = local.exteriorDistance(p_L);
+                if (!box_hit && d <= r + step) box_hit = true;
+                double lb = d;
+                if (!sdf_hit && d <= r_sdf + step) {
+                  double sd_lower = d;
+                  sdf.distance_fast(p_L, &sd_lower);
+                  lb = std::max(d, sd_lower);
+                  // Between this sample and its neighbours the link moves at most the two
+                  // intervals' own bounds (each <= step).
+                  const double local_step =
+                      std::max(s > 0 ? body_.motion_bound_m(j, s - 1, s) : 0.0,
+                               s + 1 < body_.num_samples() ? body_.motion_bound_m(j, s, s + 1) : 0.0);
+                  sdf_hit = lb <= r_sdf + local_step;
                 }
-                const double skip = step > 0.0 ? std::floor((d - r) / step) - 1.0 : 0.0;
-                s += 1 + static_cast<int>(std::clamp(skip, 0.0, static_cast<double>(last - s)));
+                if (box_hit && sdf_hit) break;
+                // Skip only samples that can decide neither open level: sample s + i is at least
+                // (bound here) - motion(s, s + i) away, and a hit needs r + step (box) or
+                // r_sdf + step (SDF) at most; the motion is summed over the actual intervals.
+                double room = std::numeric_limits<double>::infinity();
+                if (!box_hit) room = d - r - step;
+                if (!sdf_hit) room = std::min(room, lb - r_sdf - step);
+                s += 1 + body_.samples_within_motion(j, s, last, room);
               }
+              if (box_hit) masks[idx] |= bit;
+              // A piece may pass only the SDF level (the box levels passing on another piece):
+              // the bits are AND-ed over all pieces in find_candidates().
+              if (tighten ? sdf_hit : box_hit) tight[idx] |= bit;
             }
           }
     }
@@ -187,10 +230,13 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
   for (std::size_t c = static_cast<std::size_t>(index); c < candidates_.size(); c += static_cast<std::size_t>(stride)) {
     const auto i = static_cast<std::size_t>(candidates_[c]);
     const ObstaclePoint& o = points_[i];
-    const std::uint32_t mask = masks_[i];
+    // The search cap and the base's options follow the box levels' mask (so every evaluated
+    // pair's D_j is as without the SDF level); only the tight mask's links are evaluated.
+    const std::uint32_t box_mask = masks_[i];
+    const std::uint32_t mask = tight_[i];
     double cap = 0.0;  // D values above every needed link's margin are not used
     for (int j = 0; j < kNumLinks; ++j) {
-      if (mask & (1u << j)) cap = std::max(cap, margin_of(o, j));
+      if (box_mask & (1u << j)) cap = std::max(cap, margin_of(o, j));
     }
     ++w.stats.candidate_points;
     TimeHints& hint = hints_[i];

@@ -135,6 +135,8 @@ void SweptBody::reset(const Trajectory& trajectory) {
   for (auto& b : link_boxes_) b.setEmpty();
   max_step_m_.fill(0.0);
   for (int j = 0; j < kNumLinks; ++j) {
+    std::vector<double>& prefix = step_prefix_m_[static_cast<std::size_t>(j)];
+    prefix.assign(num, 0.0);
     const Link& link = model_->links[static_cast<std::size_t>(j)];
     if (link.bounds.isEmpty()) continue;
     for (int i = 0; i < pieces; ++i) {
@@ -149,6 +151,7 @@ void SweptBody::reset(const Trajectory& trajectory) {
                            link.bounding_radius_m *
                                rotation_angle(sample_pose(k - 1, j).R_L_W, sample_pose(k, j).R_L_W);
           step = std::max(step, d);
+          prefix[static_cast<std::size_t>(k)] = prefix[static_cast<std::size_t>(k) - 1] + d;
         }
       }
       box.min().array() -= step;
@@ -158,6 +161,22 @@ void SweptBody::reset(const Trajectory& trajectory) {
       max_step_m_[static_cast<std::size_t>(j)] = std::max(max_step_m_[static_cast<std::size_t>(j)], step);
     }
   }
+}
+
+int SweptBody::samples_within_motion(int link, int k_from, int k_last, double budget_m) const {
+  if (!(budget_m > 0.0) || k_last <= k_from) return 0;
+  const std::vector<double>& c = step_prefix_m_[static_cast<std::size_t>(link)];
+  // First sample whose motion from k_from reaches the budget; everything before it is within.
+  // Most skips are short: a few linear steps first, then a binary search over the rest.
+  const double limit = c[static_cast<std::size_t>(k_from)] + budget_m;
+  constexpr int kLinear = 8;
+  int k = k_from + 1;
+  for (; k <= k_last && k <= k_from + kLinear; ++k) {
+    if (c[static_cast<std::size_t>(k)] >= limit) return k - k_from - 1;
+  }
+  if (k > k_last) return k_last - k_from;
+  const auto it = std::lower_bound(c.begin() + k, c.begin() + k_last + 1, limit);
+  return static_cast<int>(it - (c.begin() + k_from + 1));
 }
 
 int SweptBody::first_sample_at_or_after(double t_s) const {

@@ -68,6 +68,14 @@ struct SvsdfSettings {
   /// [first - dt, last + dt] over the base's scan samples within this band of its minimum
   /// (just t0* +- dt when the minimum is sharp and unique), m. >= 0; 0 = the literal single window.
   double base_tie_band_m = 0.02;
+  /// Lean scan (the default): a search looks up only the samples within reach = max_step + 2 err
+  /// of the coarse minimum (or within the tie band, when wider) instead of 2 max_step + 2 err, and
+  /// its Lipschitz skip sums the per-interval motion bounds instead of the uniform max_step. Both
+  /// leave every result unchanged (a kept minimum lies within reach, and a sample outside the
+  /// level compares above every kept minimum as its neighbour), only fewer samples are visited;
+  /// false is the reference the tests compare against. Profile scans (the ball search's) are
+  /// always the reference ones, so that the ball search's sample order does not change.
+  bool lean_scan = true;
   /// Accumulate the wall time spent in searches into SvsdfStats::search_time_s (benchmarks; two
   /// clock reads per search).
   bool collect_timing = false;
@@ -125,6 +133,7 @@ struct SearchOptions {
 struct SvsdfStats {
   std::int64_t searches = 0;
   std::int64_t samples_in_range = 0;   ///< cached samples in the searched intervals
+  std::int64_t samples_visited = 0;    ///< of those, reached by the scan (pose applied)
   std::int64_t samples_evaluated = 0;  ///< of those, not pruned (one SDF lookup each)
   std::int64_t exact_evaluations = 0;  ///< trajectory + FK + SDF + Jacobian (refinement)
   std::int64_t skipped = 0;            ///< searches that stopped after the scan (far)
@@ -132,6 +141,7 @@ struct SvsdfStats {
   void add(const SvsdfStats& o) {
     searches += o.searches;
     samples_in_range += o.samples_in_range;
+    samples_visited += o.samples_visited;
     samples_evaluated += o.samples_evaluated;
     exact_evaluations += o.exact_evaluations;
     skipped += o.skipped;
@@ -191,9 +201,10 @@ class SvsdfEvaluator {
   /// hint_k first when in range; returns the smallest value (inf if all pruned). dense_lower:
   /// also fill lower_ with a bound for every sample (a ScanProfile).
   /// Samples whose bound exceeds min(best + margin, level_cap) are not looked up; margin is
-  /// 2 max_step + 2 err unless margin_override >= 0.
+  /// 2 max_step + 2 err unless margin_override >= 0. uniform_skip: the Lipschitz skip steps by
+  /// max_step (the reference) rather than by the per-interval motion bounds.
   double scan(int link, const Eigen::Vector3d& p, int k_lo, int k_hi, int hint_k, bool dense_lower,
-              double level_cap, double margin_override);
+              double level_cap, double margin_override, bool uniform_skip);
   /// Resets the entries of values_ the last scan set (values_ spans every sample of the body).
   void clear_scan();
   /// Minimizes around the sample t_k, starting with the bracket [a, b], within the search [lo, hi].

@@ -16,7 +16,9 @@
 // s_j + err + max_step (the most a link point moves between samples). The points are indexed in a
 // uniform grid (kCell_m), so each swept box visits only the points near it; level 2 skips samples by
 // the same Lipschitz bound as the t* scan (a box distance beyond s_j + (m + 1) max_step rules out
-// the next m samples); the links are split over the `threads` workers. Each point keeps its
+// the next m samples, summing the per-interval motion bounds); a third level (sdf_prefilter) asks
+// the link's SDF lower bound the same question; the (link, piece) pairs are split over the
+// `threads` workers. Each point keeps its
 // t*_j of the previous evaluate() as the first guess of the next one's scans (svsdf.hpp; speed only).
 // Frozen decisions (freeze_ball_decisions, default on; kc_svsdf.hpp "Frozen decisions"): each point
 // keeps a BallDecisions record. The first evaluate() after prepare(), set_points() or
@@ -72,6 +74,15 @@ struct SvsdfSafetySettings {
   /// Threads sharing the obstacle points of one evaluate() (point i goes to thread i mod threads;
   /// results are merged in thread order, so they do not depend on timing). >= 1; 1 = no thread.
   int threads = 2;
+  /// Third prefilter level (default on): a pair (point, link j >= 1) that passed the box levels is
+  /// evaluated only if, at some sample, the link's SDF lower bound (LinkSdf::distance_fast's
+  /// sd_lower, at least the box distance) is within s_j + err_any + max_step of the point, err_any
+  /// the larger of the two grids' error bounds (any interpolant the search reads is within err_any
+  /// of the true distance, and the true distance changes by at most max_step between samples).
+  /// Elsewhere D_j > s_j, so J_s and its gradient are unchanged; the search cap and the base's
+  /// options still follow the box levels' mask, so every evaluated pair's D_j is the same too.
+  /// false: the reference (two levels only).
+  bool sdf_prefilter = true;
 };
 
 class SvsdfSafetyTerm : public SafetyTerm {
@@ -116,6 +127,7 @@ class SvsdfSafetyTerm : public SafetyTerm {
     SafetyStats stats;
     double cost = 0.0;
     std::vector<std::uint32_t> masks;  ///< find_candidates' bits for this worker's links
+    std::vector<std::uint32_t> tight;  ///< the subset passing the SDF level (sdf_prefilter)
   };
   /// Cell edge of the point index, m (about a link's swept box per piece).
   static constexpr double kCell_m = 0.25;
@@ -123,7 +135,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   Eigen::Vector3i cell_index(const Eigen::Vector3d& p) const;
   /// The prefilter (header comment): masks_[i] = links point i must be evaluated for.
   void find_candidates();
-  /// find_candidates' work for the links j = index (mod threads), into worker.masks.
+  /// find_candidates' work for the (link, piece) pairs numbered index (mod threads), into
+  /// worker.masks and worker.tight.
   void mark_candidates(Worker& worker, int index);
   void run(Worker& worker, int index, const Trajectory& trajectory);
   double margin_of(const ObstaclePoint& o, int link) const {
@@ -147,6 +160,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   std::vector<int> cell_start_;    ///< CSR offsets, one per cell + 1
   std::vector<int> cell_points_;   ///< point indices, cell by cell
   std::vector<std::uint32_t> masks_;
+  /// Links point i is evaluated for (masks_ narrowed by the SDF level; bit 0 as in masks_).
+  std::vector<std::uint32_t> tight_;
   std::vector<int> candidates_;
 };
 

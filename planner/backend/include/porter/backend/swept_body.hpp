@@ -108,6 +108,16 @@ class SweptBody {
   int first_sample_at_or_after(double t_s) const;
   /// Upper bound on how far any point of `link` moves between two consecutive samples, m.
   double max_step_m(int link) const { return max_step_m_[static_cast<std::size_t>(link)]; }
+  /// Upper bound on how far any point of `link` moves from sample k_from to sample k_to
+  /// (k_from <= k_to): the sum of the per-interval bounds (each <= max_step_m), m. Exact prefix
+  /// sums, so the bound over a span is never below the distance between its two end poses.
+  double motion_bound_m(int link, int k_from, int k_to) const {
+    const std::vector<double>& c = step_prefix_m_[static_cast<std::size_t>(link)];
+    return c[static_cast<std::size_t>(k_to)] - c[static_cast<std::size_t>(k_from)];
+  }
+  /// Largest i in [0, k_last - k_from] with motion_bound_m(link, k_from, k_from + i) < budget_m
+  /// (0 when budget_m <= 0): samples k_from + 1 .. k_from + i are within budget_m of k_from's pose.
+  int samples_within_motion(int link, int k_from, int k_last, double budget_m) const;
 
   // --- Prefilter boxes -------------------------------------------------------------------------
   /// World AABB of link's geometry over piece i (inflated as in the header comment).
@@ -130,6 +140,8 @@ class SweptBody {
   std::vector<Eigen::AlignedBox3d> boxes_;
   std::array<Eigen::AlignedBox3d, kNumLinks> link_boxes_;
   std::array<double, kNumLinks> max_step_m_{};
+  /// Per link: prefix sums of the per-interval motion bounds, [k] = sum over intervals < k.
+  std::array<std::vector<double>, kNumLinks> step_prefix_m_;
 };
 
 }  // namespace porter::backend
