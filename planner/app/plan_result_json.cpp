@@ -141,7 +141,8 @@ std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendRe
                          {"num_segments", mid->num_segments},
                          {"execution", midend::to_string(mid->execution)},
                          {"direct_execution", mid->execution == midend::Execution::kDirect},
-                         {"self_collision_retry", info.midend_retry.empty() ? json(nullptr) : json(info.midend_retry)}};
+                         {"self_collision_retry", info.midend_retry.empty() ? json(nullptr) : json(info.midend_retry)},
+                         {"residual_arm_bound_rad", info.midend_arm_residual_bound_rad}};
     if (mid->trajectory) {
       doc["midend"]["duration_s"] = mid->trajectory->total_duration_s();
       doc["trajectory"] = json::parse(to_json(*mid->trajectory));

@@ -29,6 +29,8 @@ struct PlanRunInfo {
   double backend_budget_ms = 0.0;
   /// Why the mid-end was solved a second time with a tighter arm residual ("" when it was not).
   std::string midend_retry;
+  /// rho_m of the mid-end solve whose result is reported (rad; 0: no mid-end).
+  double midend_arm_residual_bound_rad = 0.0;
 };
 
 /// The kernel trajectory check of the answer (mid-end's, or back-end's when it ran).

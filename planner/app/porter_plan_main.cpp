@@ -161,12 +161,19 @@ int main(int argc, char** argv) {
         info.midend_retry = why.str();
         if (!args.quiet) std::cout << "mid-end: " << info.midend_retry << ", solved again" << std::endl;
         if (retry.trajectory) {
+          // The stage's cost is both solves: times, iterations and evaluations add up.
+          retry.elapsed_s += mid->elapsed_s;
+          retry.optimize_s += mid->optimize_s;
+          retry.validate_s += mid->validate_s;
+          retry.iterations += mid->iterations;
+          retry.evaluations += mid->evaluations;
           mid = std::move(retry);
           mid_check = retry_check;
           mid_settings = tight;
         }
       }
     }
+    info.midend_arm_residual_bound_rad = mid_settings.residual_arm_bound_rad;
     status = midend::to_string(mid->status);
     if (!args.quiet || !mid->trajectory) std::cout << app::midend_summary(*mid) << std::endl;
     if (!mid->trajectory) {

@@ -64,6 +64,7 @@ PlanResultFile read_plan_result(const std::string& file) {
       out.midend_status = m.at("status").get<std::string>();
       out.midend_optimize_ms = m.at("optimize_ms").get<double>();
       out.midend_time_ms = m.at("time_ms").get<double>();
+      out.midend_arm_residual_bound_rad = m.value("residual_arm_bound_rad", 0.0);
     }
     if (!doc.at("trajectory").is_null()) {
       TrajectoryResult tr = trajectory_from_json(doc.at("trajectory").dump());

@@ -25,6 +25,9 @@ struct PlanResultFile {
   std::string midend_status;
   double midend_optimize_ms = 0.0;
   double midend_time_ms = 0.0;
+  /// rho_m the reported mid-end solve used (porter-plan's self-collision retry halves it); 0 when
+  /// the file does not say.
+  double midend_arm_residual_bound_rad = 0.0;
 };
 
 PlanResultFile read_plan_result(const std::string& file);
