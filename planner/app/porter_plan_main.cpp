@@ -133,11 +133,15 @@ int main(int argc, char** argv) {
   if (code == kOk && args.stages != app::Stages::kFront) {
     const midend::MidEnd midend_solver(model);
     midend::MidendSettings mid_settings = midend_solver.settings();
+    // The direct-execution test: the kernel trajectory check, its result kept in *found.
+    auto kernel_validator = [&kernels](planner::CollisionResult* found) {
+      return [&kernels, found](const Trajectory& t) {
+        *found = kernels.check_trajectory(t);
+        return !found->in_collision;
+      };
+    };
     planner::CollisionResult mid_check;
-    mid = midend_solver.solve(result.path, args.midend_budget_ms * 1e-3, [&](const Trajectory& t) {
-      mid_check = kernels.check_trajectory(t);
-      return !mid_check.in_collision;
-    });
+    mid = midend_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&mid_check));
     // Not in the paper: the back-end's safety term sees obstacles only, so a mid-end trajectory
     // whose arm hits itself (it may leave the front-end's self-collision-free arm path by up to
     // rho_m) cannot be repaired there. Such a trajectory is solved again with the arm residual
@@ -151,10 +155,8 @@ int main(int argc, char** argv) {
         tight.residual_arm_bound_rad *= kSelfRetryArmResidualScale;
         const midend::MidEnd tight_solver(model, tight);
         planner::CollisionResult retry_check;
-        midend::MidendResult retry = tight_solver.solve(result.path, args.midend_budget_ms * 1e-3, [&](const Trajectory& t) {
-          retry_check = kernels.check_trajectory(t);
-          return !retry_check.in_collision;
-        });
+        midend::MidendResult retry =
+            tight_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&retry_check));
         std::ostringstream why;
         why << "self-collision (links " << self.link << "-" << self.other_link << "): arm residual bound "
             << mid_settings.residual_arm_bound_rad << " -> " << tight.residual_arm_bound_rad << " rad";

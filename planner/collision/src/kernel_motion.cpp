@@ -33,6 +33,24 @@ double displacement_bound(const ChainRadii& radii, double dxy, double dyaw, cons
   return d;
 }
 
+/// |dz_d/dt| <= sum_k k |c_kd| T^(k-1) over the piece, per coordinate d.
+TrajVector rate_bound(const TrajectoryPiece& piece) {
+  TrajVector vmax = TrajVector::Zero();
+  double tk = 1.0;
+  for (int k = 1; k < kTrajNumCoeffs; ++k) {
+    vmax += (k * tk) * piece.coeffs.row(k).transpose().cwiseAbs();
+    tk *= piece.duration_s;
+  }
+  return vmax;
+}
+
+/// Intervals of a piece of duration T over which a point moving at most `speed` advances at most
+/// half_step each.
+int piece_intervals(double speed, double T, double half_step) {
+  const double n = speed > 0.0 ? std::ceil(speed * T / half_step) : 1.0;
+  return static_cast<int>(std::min(std::max(n, 1.0), 1e7));
+}
+
 }  // namespace
 
 int KernelCollisionChecker::motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const {
@@ -90,17 +108,10 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
   for (int i = 0; i < trajectory.num_pieces(); ++i) {
     const TrajectoryPiece& piece = trajectory.piece(i);
     const double T = piece.duration_s;
-    // |dz_d/dt| <= sum_k k |c_kd| T^(k-1) over the piece.
-    TrajVector vmax = TrajVector::Zero();
-    double tk = 1.0;
-    for (int k = 1; k < kTrajNumCoeffs; ++k) {
-      vmax += (k * tk) * piece.coeffs.row(k).transpose().cwiseAbs();
-      tk *= T;
-    }
+    const TrajVector vmax = rate_bound(piece);
     double speed = std::hypot(vmax[0], vmax[1]);
     for (int j = 0; j < kNumArmJoints; ++j) speed += radii.sweep_radius_m[static_cast<std::size_t>(j)] * vmax[2 + j];
-    const double n_lin = speed > 0.0 ? std::ceil(speed * T / half_step) : 1.0;
-    const int n = static_cast<int>(std::min(std::max(n_lin, 1.0), 1e7));
+    const int n = piece_intervals(speed, T, half_step);
     const double t0 = trajectory.piece_start_time_s(i);
     for (int k = 1; k <= n; ++k) {
       const double t = (k == n) ? trajectory.piece_start_time_s(i + 1) : t0 + T * k / n;
@@ -143,16 +154,10 @@ CollisionResult KernelCollisionChecker::check_trajectory_self(const Trajectory& 
     const TrajectoryPiece& piece = trajectory.piece(i);
     const double T = piece.duration_s;
     // Relative motion of two links comes from the joints alone: bound it by sum_j rho_j |qdot_j|.
-    TrajVector vmax = TrajVector::Zero();
-    double tk = 1.0;
-    for (int k = 1; k < kTrajNumCoeffs; ++k) {
-      vmax += (k * tk) * piece.coeffs.row(k).transpose().cwiseAbs();
-      tk *= T;
-    }
+    const TrajVector vmax = rate_bound(piece);
     double speed = 0.0;
     for (int j = 0; j < kNumArmJoints; ++j) speed += radii.sweep_radius_m[static_cast<std::size_t>(j)] * vmax[2 + j];
-    const double n_lin = speed > 0.0 ? std::ceil(speed * T / half_step) : 1.0;
-    const int n = static_cast<int>(std::min(std::max(n_lin, 1.0), 1e7));
+    const int n = piece_intervals(speed, T, half_step);
     const double t0 = trajectory.piece_start_time_s(i);
     for (int k = 1; k <= n; ++k) {
       const double t = (k == n) ? trajectory.piece_start_time_s(i + 1) : t0 + T * k / n;

@@ -14,17 +14,9 @@
 namespace porter::backend {
 namespace {
 
-constexpr char kPayload[] = "t_bar";
+using testing::point_near;
 
-Eigen::Vector3d point_in(const SweptBody& body, int link, std::mt19937& rng, double spread) {
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
-  BodyState st;
-  body.evaluate(u(rng) * body.duration_s(), st);
-  const Eigen::AlignedBox3d& b = body.model().links[static_cast<std::size_t>(link)].bounds;
-  const Eigen::Vector3d p_L = b.min() + b.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-  const auto l = static_cast<std::size_t>(link);
-  return st.kin.R_W_L[l] * p_L + st.kin.t_W_L[l] + spread * Eigen::Vector3d(s(rng), s(rng), s(rng));
-}
+constexpr char kPayload[] = "t_bar";
 
 class KcSvsdfFrozenDecisionsTest : public ::testing::Test {
  protected:
@@ -57,7 +49,7 @@ TEST_F(KcSvsdfFrozenDecisionsTest, RecordingChangesNothingAndTheReplayReproduces
     int inside = 0;
     for (int n = 0; n < 64; ++n) {
       const int link = n % kNumLinks;
-      const Eigen::Vector3d p = point_in(body_, link, rng, 0.02);
+      const Eigen::Vector3d p = point_near(body_, link, rng, 0.02);
       KcSvsdfResult plain, recorded, replay;
       BallDecisions decisions;
       kc.evaluate(p, 1u << link, plain);
@@ -85,7 +77,7 @@ TEST_F(KcSvsdfFrozenDecisionsTest, ReplayedAndSurrogateGradientsMatchFiniteDiffe
   int replays = 0, surrogates = 0, checked = 0, rough = 0;
   for (int n = 0; n < 40; ++n) {
     const int link = n % kNumLinks;
-    const Eigen::Vector3d p = point_in(body_, link, rng, 0.02);
+    const Eigen::Vector3d p = point_near(body_, link, rng, 0.02);
     const auto j = static_cast<std::size_t>(link);
     BallDecisions decisions;
     KcSvsdfResult r;
@@ -146,7 +138,7 @@ TEST_F(KcSvsdfFrozenDecisionsTest, SafetyTermReplaysUntilRefreshed) {
   // Points inside the swept volume of a random trajectory; a second trajectory nearby.
   std::mt19937 rng(13);
   std::vector<ObstaclePoint> points;
-  for (int n = 0; n < 80; ++n) points.push_back({point_in(body_, 1 + n % 7, rng, 0.03), kAllLinks});
+  for (int n = 0; n < 80; ++n) points.push_back({point_near(body_, 1 + n % 7, rng, 0.03), kAllLinks});
   const Trajectory other = testing::perturbed(*traj_, 1, 0, 3, 0.02);
   SvsdfSafetySettings frozen_settings;
   frozen_settings.weight = 1.0;

@@ -13,17 +13,9 @@
 namespace porter::backend {
 namespace {
 
-constexpr char kPayload[] = "t_bar";
+using testing::point_near;
 
-Eigen::Vector3d point_near(const SweptBody& body, int link, std::mt19937& rng, double spread) {
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
-  BodyState st;
-  body.evaluate(u(rng) * body.duration_s(), st);
-  const Eigen::AlignedBox3d& b = body.model().links[static_cast<std::size_t>(link)].bounds;
-  const Eigen::Vector3d p_L = b.min() + b.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-  const auto l = static_cast<std::size_t>(link);
-  return st.kin.R_W_L[l] * p_L + st.kin.t_W_L[l] + spread * Eigen::Vector3d(s(rng), s(rng), s(rng));
-}
+constexpr char kPayload[] = "t_bar";
 
 class KcSvsdfTest : public ::testing::Test {
  protected:

@@ -15,6 +15,8 @@
 namespace porter::backend {
 namespace {
 
+using testing::point_near;
+
 constexpr char kPayload[] = "t_bar";
 
 /// Slow reference: SDF_j(T_j(t)^-1 p) at every t of a dense grid over [lo, hi], with the pose from
@@ -42,18 +44,6 @@ DenseMin dense_minimum(const SweptBody& body, const RobotSdf& sdf, int link, con
     if (v < best.value) best = {v, t};
   }
   return best;
-}
-
-/// A point near link j's geometry at a random instant: a random point of its bounding box at time
-/// t_r, pushed out by up to `spread` metres.
-Eigen::Vector3d point_near(const SweptBody& body, int link, std::mt19937& rng, double spread) {
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
-  BodyState st;
-  body.evaluate(u(rng) * body.duration_s(), st);
-  const Eigen::AlignedBox3d& b = body.model().links[static_cast<std::size_t>(link)].bounds;
-  const Eigen::Vector3d p_L = b.min() + b.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-  const auto l = static_cast<std::size_t>(link);
-  return st.kin.R_W_L[l] * p_L + st.kin.t_W_L[l] + spread * Eigen::Vector3d(s(rng), s(rng), s(rng));
 }
 
 testing::RandomTrajectoryOptions RandomTrajectoryOptionsLong() {

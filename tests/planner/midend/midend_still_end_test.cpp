@@ -28,16 +28,25 @@ planner::PathNode node_at(const planner::PathNode& from, double dx_m, const Join
   return n;
 }
 
-/// A 3 m forward drive whose last edge moves the base 2.5 mm and joint 1 by 0.9 rad; with
-/// `creep_at_start`, the first edge does the same.
-planner::WholeBodyPath creeping_path(bool creep_at_start) {
-  testing::PathBuilder b({1.0, -0.5, 0.2}, testing::carry_pose(), 0.25);
-  b.straight(3.0, 1);
+/// A forward drive of `length_m` from `start` in the carry pose, then one more node dx_m further
+/// and dt_s later with joint `joint` (0-based) turned by dq_rad.
+planner::WholeBodyPath drive_then_turn_joint(const BasePose& start, double length_m, int joint, double dq_rad,
+                                             double dx_m, double dt_s) {
+  testing::PathBuilder b(start, testing::carry_pose(), 0.25);
+  b.straight(length_m, 1);
   planner::WholeBodyPath path = b.build();
   auto& nodes = path.segments.front().nodes;
   JointVector q = nodes.back().config.q_rad;
-  q[0] += 0.9;
-  nodes.push_back(node_at(nodes.back(), 0.0025, q, 0.02));
+  q[joint] += dq_rad;
+  nodes.push_back(node_at(nodes.back(), dx_m, q, dt_s));
+  return path;
+}
+
+/// A 3 m forward drive whose last edge moves the base 2.5 mm and joint 1 by 0.9 rad; with
+/// `creep_at_start`, the first edge does the same.
+planner::WholeBodyPath creeping_path(bool creep_at_start) {
+  planner::WholeBodyPath path = drive_then_turn_joint({1.0, -0.5, 0.2}, 3.0, 0, 0.9, 0.0025, 0.02);
+  auto& nodes = path.segments.front().nodes;
   if (creep_at_start) {
     // Shift the drive by 2 mm and start from a node 2 mm behind with the arm 0.9 rad away.
     for (auto& n : nodes) n.time_s += 0.02;
@@ -97,16 +106,7 @@ TEST(MidendStillEnd, CreepingFirstAndLastEdges) { expect_still_end(true); }
 // 3/4 of the still tail's time while the arm, braking to rest, got there much earlier and then
 // crept: the residual to the node nearest in time reached 1.05 rho_m. The still tail is now
 // timed with the joints' acceleration ramps (reference_path.hpp, step 7).
-planner::WholeBodyPath arm_finish_path() {
-  testing::PathBuilder b({0.0, 0.0, 0.0}, testing::carry_pose(), 0.25);
-  b.straight(2.0, 1);
-  planner::WholeBodyPath path = b.build();
-  auto& nodes = path.segments.front().nodes;
-  JointVector q = nodes.back().config.q_rad;
-  q[3] += 1.64;
-  nodes.push_back(node_at(nodes.back(), 0.05, q, 0.5));
-  return path;
-}
+planner::WholeBodyPath arm_finish_path() { return drive_then_turn_joint({0.0, 0.0, 0.0}, 2.0, 3, 1.64, 0.05, 0.5); }
 
 TEST(MidendStillEnd, ArmFinishIsTimedWithAccelerationRampsAndKeepsTheResidual) {
   const planner::WholeBodyPath path = arm_finish_path();

@@ -7,7 +7,10 @@
 #include <random>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "porter/backend/robot_sdf.hpp"
+#include "porter/backend/swept_body.hpp"
 #include "porter/core/robot_model.hpp"
 #include "porter/core/trajectory.hpp"
 
@@ -42,5 +45,9 @@ Trajectory random_trajectory(const RobotModel& model, std::uint64_t seed,
 /// A copy of `traj` with one raw parameter moved: piece i's coefficient (row, col) when
 /// row >= 0, else piece i's duration (by delta).
 Trajectory perturbed(const Trajectory& traj, int piece, int row, int col, double delta);
+
+/// A point near link `link` at a random instant of `body`'s trajectory: a random point of the link's
+/// bounding box, moved by up to `spread` metres along each axis.
+Eigen::Vector3d point_near(const SweptBody& body, int link, std::mt19937& rng, double spread);
 
 }  // namespace porter::backend::testing

@@ -71,7 +71,7 @@ struct HybridAStarSettings {
   /// Weighted A*: f = g + w h (>= 1; 1 keeps the heuristic admissible). The guidance cost
   /// (arm_blocked_cost_factor) is not in the heuristic, so a low weight explores widely around
   /// blocked stretches: forest, 100 seeds, 200 ms front-end budget: w = 1.5 -> 98 %, median
-  /// 48 ms, p97 158 ms; w = 2 -> 100 %, 22 ms, 60 ms (tunnel median 18 -> 9 ms).
+  /// 48 ms, p97 158 ms; w = 2 -> 100 %, 22 ms, 60 ms (tunnel median 10.6-12.6 -> 9.4 ms).
   double heuristic_weight = 2.0;
   /// Beyond this Euclidean distance to the goal the Reeds–Shepp part of the heuristic is
   /// replaced by the Euclidean distance (cheaper, nearly equal far away), m.
