@@ -52,6 +52,18 @@ struct SolveContext {
   bool found_free = false;      ///< an accepted iterate passed the re-check: stopped there
   int refresh_every = 0;        ///< BackendSettings::refresh_every_iterations
   bool refresh_requested = false;  ///< the round ended to refresh the safety term's decisions
+  // The first-step probe's evaluation at the round's start (first_step_scale), handed to L-BFGS's
+  // own first evaluation of the same point instead of computing it again.
+  bool have_cached = false;
+  Eigen::VectorXd cached_x, cached_g;
+  double cached_f = 0.0;
+  BackendCost cached_cost;
+  int probes = 0;
+  // Cost of the round's current iterate (+infinity before its first evaluation): the cutoff of
+  // BackendSettings::skip_safety_above_current.
+  double current_f = std::numeric_limits<double>::infinity();
+  bool use_cutoff = false;  ///< backtracking line searches only (More-Thuente interpolates f)
+  int skipped = 0;
 };
 
 /// What an evaluation reports once the budget is gone: the line search cannot accept a step, so
@@ -67,14 +79,26 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
     if (g) std::fill(g, g + n, 0.0);
     return kExpiredCost;
   }
-  ++ctx->evaluations;
   for (int k = 0; k < n; ++k) ctx->x[k] = ctx->scale * y[k];
-  const double f = ctx->problem->evaluate(ctx->x.data(), g, &ctx->cost);
-  if (g) {
-    for (int k = 0; k < n; ++k) g[k] *= ctx->scale;
+  double f = 0.0;
+  if (ctx->have_cached && g && (ctx->x - ctx->cached_x).norm() <= 1e-12 * (1.0 + ctx->cached_x.norm())) {
+    // Already evaluated (and counted) by the first-step probe.
+    ctx->have_cached = false;
+    f = ctx->cached_f;
+    ctx->cost = ctx->cached_cost;
+    for (int k = 0; k < n; ++k) g[k] = ctx->cached_g[k] * ctx->scale;
+  } else {
+    ++ctx->evaluations;
+    f = ctx->problem->evaluate(ctx->x.data(), g, &ctx->cost,
+                               ctx->use_cutoff ? ctx->current_f : std::numeric_limits<double>::infinity());
+    if (ctx->cost.safety_skipped) ++ctx->skipped;
+    if (g) {
+      for (int k = 0; k < n; ++k) g[k] *= ctx->scale;
+    }
+    ctx->safety_s += ctx->cost.safety_stats.time_s;
   }
-  ctx->safety_s += ctx->cost.safety_stats.time_s;
   ctx->last_safety = ctx->cost.safety;
+  if (!std::isfinite(ctx->current_f)) ctx->current_f = f;  // the round's starting point
   if (!ctx->have_initial) {
     ctx->have_initial = true;
     ctx->initial = ctx->cost;
@@ -87,11 +111,12 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
 }
 
 int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t* /*g*/,
-                const lbfgsfloatval_t /*fx*/, const lbfgsfloatval_t /*xnorm*/,
+                const lbfgsfloatval_t fx, const lbfgsfloatval_t /*xnorm*/,
                 const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int n, int k,
                 int /*ls*/) {
   auto* ctx = static_cast<SolveContext*>(instance);
   ctx->round_iterations = k;
+  ctx->current_f = fx;
   // The re-check at a low rate: stop at the first accepted iterate the kernel check passes.
   if (ctx->checker && ctx->recheck_every > 0 && k % ctx->recheck_every == 0) {
     const auto t0 = Clock::now();
@@ -120,6 +145,40 @@ int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t*
     return 1;
   }
   return 0;
+}
+
+/// Chooses the solver's variable scale for the next L-BFGS round (BackendSettings::
+/// probe_first_step): liblbfgs's first trial step moves x by exactly ctx.scale along -g, so the
+/// scale is set to the length of the Newton step along -g, |g| / c, with c the curvature of the
+/// cost along -g from a gradient difference over kProbeStep (at most max_scale; max_scale when c is
+/// not positive). y is rescaled to keep x. The evaluation at x is cached for L-BFGS's first one.
+void first_step_scale(SolveContext& ctx, double* y, int n, double max_scale) {
+  constexpr double kProbeStep = 1e-6;   // x units; the cost's curvature is steady below ~1e-5
+  constexpr double kMinScale = 1e-9;
+  Eigen::VectorXd x0(n), g0(n), x1(n), g1(n);
+  for (int k = 0; k < n; ++k) x0[k] = ctx.scale * y[k];
+  BackendCost c0, c1;
+  ++ctx.evaluations;
+  const double f0 = ctx.problem->evaluate(x0.data(), g0.data(), &c0);
+  ctx.safety_s += c0.safety_stats.time_s;
+  double new_scale = max_scale;
+  const double gn = g0.norm();
+  if (std::isfinite(f0) && gn > 0.0) {
+    x1 = x0 - (kProbeStep / gn) * g0;
+    ++ctx.evaluations;
+    ++ctx.probes;
+    const double f1 = ctx.problem->evaluate(x1.data(), g1.data(), &c1);
+    ctx.safety_s += c1.safety_stats.time_s;
+    const double c = std::isfinite(f1) ? -(g1 - g0).dot(g0) / (gn * kProbeStep) : 0.0;
+    if (c > 0.0) new_scale = std::clamp(gn / c, kMinScale, max_scale);
+  }
+  for (int k = 0; k < n; ++k) y[k] = x0[k] / new_scale;
+  ctx.scale = new_scale;
+  ctx.have_cached = std::isfinite(f0);
+  ctx.cached_x = x0;
+  ctx.cached_g = g0;
+  ctx.cached_f = f0;
+  ctx.cached_cost = c0;
 }
 
 void finish(BackendResult& r, const planner::CollisionChecker* checker, Clock::time_point start) {
@@ -223,6 +282,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   ctx.checker = checker;
   ctx.recheck_every = settings_.recheck_every_iterations;
   ctx.refresh_every = settings_.refresh_every_iterations;
+  ctx.use_cutoff = settings_.skip_safety_above_current && settings_.line_search != midend::LineSearch::kMoreThuente;
   const auto t_opt = Clock::now();
   lbfgsfloatval_t fx = 0.0;
   int code = LBFGS_SUCCESS;
@@ -235,7 +295,9 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   for (;;) {
     problem.set_safety_scale(weight_scale);
     safety.refresh_decisions();
+    if (settings_.probe_first_step) first_step_scale(ctx, x.data, n, scale);
     ctx.best_f = std::numeric_limits<double>::infinity();
+    ctx.current_f = std::numeric_limits<double>::infinity();
     ctx.round_iterations = 0;
     ctx.refresh_requested = false;
     param.max_iterations = settings_.max_iterations - ctx.iterations;  // the cap is over all rounds
@@ -261,7 +323,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     const bool stopped = code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
                          code == LBFGSERR_MAXIMUMITERATION || midend::lbfgs_code_is_stall(code);
     if (!stopped) break;
-    for (int k = 0; k < n; ++k) ctx.x[k] = scale * x.data[k];
+    for (int k = 0; k < n; ++k) ctx.x[k] = ctx.scale * x.data[k];
     const auto t_check = Clock::now();
     const std::optional<Trajectory> traj = problem.trajectory(ctx.x.data());
     ++ctx.rechecks;
@@ -280,6 +342,8 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   r.evaluations = ctx.evaluations;
   r.safety_s = ctx.safety_s;
   r.rechecks = ctx.rechecks;
+  r.probe_evaluations = ctx.probes;
+  r.safety_skips = ctx.skipped;
   r.recheck_s = ctx.check_s;
   r.rounds = rounds;
   r.safety_weight_scale = weight_scale;
@@ -293,7 +357,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   }
 
   Eigen::VectorXd x1(n);
-  for (int k = 0; k < n; ++k) x1[k] = scale * x.data[k];
+  for (int k = 0; k < n; ++k) x1[k] = ctx.scale * x.data[k];
   // liblbfgs returns its last accepted iterate; its cost was evaluated already unless it is not
   // the lowest one seen (then evaluate it again).
   double f1 = fx;

@@ -54,12 +54,14 @@ std::optional<Trajectory> BackendProblem::trajectory(const double* x) {
   return std::move(r.trajectory);
 }
 
-double BackendProblem::evaluate(const double* x, double* grad, BackendCost* cost) {
+double BackendProblem::evaluate(const double* x, double* grad, BackendCost* cost, double cutoff) {
   BackendCost local;
   BackendCost& c = cost ? *cost : local;
   c = BackendCost{};
   stats_ = SafetyStats{};
+  midend_.set_extra_cutoff(cutoff);
   const double f = midend_.evaluate(x, grad, &c.midend);
+  c.safety_skipped = midend_.extra_skipped();
   c.safety = c.midend.extra / safety_scale_;
   c.safety_stats = stats_;
   if (!std::isfinite(f)) {

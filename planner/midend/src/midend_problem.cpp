@@ -375,8 +375,12 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
       if (l.rest_end) boundary_heading(s, false, &b);
     }
   }
+  extra_skipped_ = false;
   if ((terms_ & kTermExtra) && extra_cost_) {
-    extra_cost(x, grad != nullptr, &b);
+    if (b.total() > extra_cutoff_)
+      extra_skipped_ = true;
+    else
+      extra_cost(x, grad != nullptr, &b);
   }
   const double cost = b.total();
   if (!std::isfinite(cost)) return fail();

@@ -7,11 +7,15 @@
 //    stalled the solve is J_s's shape there: wall points that the base passes in parallel have
 //    several near-tied t* minima (ripples of ~1e-5 m), and the penalty of a min over t is a max of
 //    smooth pieces, so along -g J_s rises again beyond ~1e-4 (in x) while the first line-search
-//    trial moves x by variable_scale; each evaluation then cost ~40 ms.
+//    trial moved x by variable_scale (now by the probed Newton step, see below); each evaluation
+//    then cost ~40 ms.
 //  - The AABB prefilter (SvsdfSafetyTerm) against a slow reference: every obstacle point, every
 //    link it applies to, Algorithm 1 with no cap: the same J_s.
 //  - The solve itself, bounded by iterations (not time): it takes steps and comes out
 //    collision-free under the kernel re-check.
+//  - The line-search economies (BackendSettings::probe_first_step, skip_safety_above_current):
+//    the J_s cutoff returns the mid-end terms alone and leaves the iterates unchanged; the probe
+//    makes the first line search shorter.
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -189,6 +193,92 @@ TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
   EXPECT_GT(r.iterations, 0);
   EXPECT_LT(r.final_cost.safety, 0.7 * r.initial_cost.safety);
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;
+}
+
+TEST(BackendWarmStart, TunnelSeed1CutoffSkipsJsAndReturnsTheMidendTerms) {
+  const TunnelCase tc = tunnel_case();
+  SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
+  const midend::MidEnd mid(*tc.model);
+  midend::ReferenceBuild ref = midend::build_reference_path(tc.ws.path, mid.limits(), mid.settings());
+  ASSERT_EQ(ref.outcome, midend::ReferenceOutcome::kOk) << ref.message;
+  safety.prepare(tc.grid, *tc.ws.trajectory);
+  BackendProblem problem(std::move(ref.path), mid.limits(), mid.settings(), safety);
+  Eigen::VectorXd x;
+  ASSERT_TRUE(problem.decision_from_trajectory(*tc.ws.trajectory, x));
+  const int n = problem.num_variables();
+  Eigen::VectorXd g_full(n), g_cut(n), g_smooth(n);
+  BackendCost full, cut, smooth;
+  const double f_full = problem.evaluate(x.data(), g_full.data(), &full);
+  ASSERT_GT(full.safety, 100.0);
+  EXPECT_FALSE(full.safety_skipped);
+  const double midend_terms = f_full - full.midend.extra;
+  // Cutoff below the mid-end terms: J_s is skipped, the cost and gradient are the mid-end terms'.
+  const double f_cut = problem.evaluate(x.data(), g_cut.data(), &cut, 0.5 * midend_terms);
+  EXPECT_TRUE(cut.safety_skipped);
+  EXPECT_EQ(cut.safety, 0.0);
+  EXPECT_EQ(cut.safety_stats.link_queries, 0);
+  EXPECT_NEAR(f_cut, midend_terms, 1e-9 * midend_terms);
+  problem.midend().set_terms(midend::kTermAll & ~midend::kTermExtra);
+  const double f_smooth = problem.evaluate(x.data(), g_smooth.data(), &smooth);
+  problem.midend().set_terms(midend::kTermAll);
+  EXPECT_EQ(f_cut, f_smooth);
+  EXPECT_LT((g_cut - g_smooth).norm(), 1e-12 * (1.0 + g_smooth.norm()));
+  // Cutoff above them: evaluated in full, as without one.
+  BackendCost above;
+  EXPECT_EQ(problem.evaluate(x.data(), nullptr, &above, 2.0 * midend_terms), f_full);
+  EXPECT_FALSE(above.safety_skipped);
+  EXPECT_EQ(above.safety, full.safety);
+}
+
+/// The back-end on the fixture with an iteration cap, no checker (no re-checks, one round).
+BackendResult capped_solve(const TunnelCase& tc, int max_iterations, bool probe, bool skip) {
+  const midend::MidEnd mid(*tc.model);
+  BackendSettings bs;
+  bs.problem = mid.settings();
+  bs.max_iterations = max_iterations;
+  bs.probe_first_step = probe;
+  bs.skip_safety_above_current = skip;
+  bs.max_line_search = 40;  // without the probe, the first line search needs ~12 halvings here
+  const BackEnd backend(*tc.model, bs);
+  SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
+  return backend.solve(tc.ws.path, *tc.ws.trajectory, tc.grid, term, 120.0, nullptr);
+}
+
+TEST(BackendWarmStart, TunnelSeed1SkippingJsAboveTheCurrentCostLeavesTheIteratesUnchanged) {
+  const TunnelCase tc = tunnel_case();
+  for (const bool probe : {false, true}) {
+    const BackendResult with = capped_solve(tc, 12, probe, true);
+    const BackendResult without = capped_solve(tc, 12, probe, false);
+    ASSERT_TRUE(with.ok() && without.ok()) << with.message << " / " << without.message;
+    // Without the probe, the fixture's first line search tries steps whose mid-end terms alone are
+    // above the current cost (so this test can fail); with it, its steps may all be short enough.
+    if (!probe) {
+      EXPECT_GT(with.safety_skips, 0);
+    }
+    EXPECT_EQ(without.safety_skips, 0);
+    EXPECT_EQ(with.iterations, without.iterations);
+    EXPECT_EQ(with.evaluations, without.evaluations);
+    EXPECT_EQ(with.final_cost.total(), without.final_cost.total());
+    ASSERT_EQ(with.trajectory->num_pieces(), without.trajectory->num_pieces());
+    for (int i = 0; i < with.trajectory->num_pieces(); ++i)
+      EXPECT_EQ(with.trajectory->piece(i).coeffs, without.trajectory->piece(i).coeffs) << "piece " << i;
+  }
+}
+
+TEST(BackendWarmStart, TunnelSeed1FirstStepProbeShortensTheFirstLineSearch) {
+  const TunnelCase tc = tunnel_case();
+  const BackendResult probed = capped_solve(tc, 1, true, true);
+  const BackendResult plain = capped_solve(tc, 1, false, true);
+  ASSERT_TRUE(probed.ok() && plain.ok()) << probed.message << " / " << plain.message;
+  EXPECT_EQ(probed.probe_evaluations, 1);
+  EXPECT_EQ(plain.probe_evaluations, 0);
+  ASSERT_EQ(probed.iterations, 1);
+  ASSERT_EQ(plain.iterations, 1);
+  // Both accept a step that lowers the cost; the probed one after fewer evaluations (counting the
+  // probe's own).
+  EXPECT_LT(probed.final_cost.total(), probed.initial_cost.total());
+  EXPECT_LT(plain.final_cost.total(), plain.initial_cost.total());
+  EXPECT_LT(probed.evaluations, plain.evaluations);
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 //
 // Not thread-safe (workspaces inside); one per solve. The SafetyTerm is used from evaluate() only.
 
+#include <limits>
 #include <optional>
 
 #include <Eigen/Core>
@@ -32,6 +33,8 @@ struct BackendCost {
   midend::CostBreakdown midend;  ///< the mid-end's terms; midend.extra = J_s
   double safety = 0.0;           ///< J_s (= midend.extra / safety scale; 0 when masked off)
   SafetyStats safety_stats;      ///< of the SafetyTerm evaluation behind `safety`
+  /// J_s was not evaluated (evaluate()'s cutoff): safety = 0 and the cost is a lower bound only.
+  bool safety_skipped = false;
   double total() const { return midend.total(); }
 };
 
@@ -56,8 +59,11 @@ class BackendProblem {
   bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x);
 
   /// Cost and gradient (size num_variables(), when non-null); +infinity (gradient zeroed) when the
-  /// mid-end problem is unusable at x or J_s is not finite.
-  double evaluate(const double* x, double* grad, BackendCost* cost);
+  /// mid-end problem is unusable at x or J_s is not finite. When the mid-end terms alone exceed
+  /// `cutoff`, J_s is not evaluated (cost->safety_skipped): the result is then the mid-end terms
+  /// alone, above the cutoff but below the true cost, with their gradient only.
+  double evaluate(const double* x, double* grad, BackendCost* cost,
+                  double cutoff = std::numeric_limits<double>::infinity());
 
   /// Multiplies J_s (and its gradient) by scale > 0 in evaluate() (the back-end's weight
   /// escalation); BackendCost::midend.extra (and total()) then hold the scaled value,

@@ -68,6 +68,8 @@ struct BackendResult {
   int iterations = 0;               ///< over every round
   int evaluations = 0;
   int rechecks = 0;                 ///< in-loop kernel re-checks (BackendSettings)
+  int probe_evaluations = 0;        ///< first-step probes (BackendSettings::probe_first_step)
+  int safety_skips = 0;             ///< evaluations that skipped J_s (skip_safety_above_current)
   int rounds = 1;                   ///< L-BFGS rounds (1 + safety-weight escalations)
   double safety_weight_scale = 1.0; ///< of the last round
   int lbfgs_code = 0;

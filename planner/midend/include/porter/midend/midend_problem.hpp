@@ -64,6 +64,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -135,6 +136,14 @@ class MidendProblem {
   void set_reference_sampling(bool on) { reference_sampling_ = on; }
   /// Attaches an extra cost term (empty function: none). See the header comment.
   void set_extra_cost(ExtraCost cost) { extra_cost_ = std::move(cost); }
+  /// evaluate() skips the extra cost (CostBreakdown::extra = 0, extra_skipped() true) when the
+  /// other terms already sum to more than this: for a caller that only needs to know that the
+  /// cost exceeds it (a line-search trial above the current iterate's cost is rejected whatever
+  /// the extra term adds, as the term is >= 0). The gradient then omits the extra term. Default
+  /// +infinity (never skipped).
+  void set_extra_cutoff(double cutoff) { extra_cutoff_ = cutoff; }
+  /// Whether the last evaluate() skipped the extra cost (set_extra_cutoff).
+  bool extra_skipped() const { return extra_skipped_; }
 
   /// Cost at x (size num_variables()); writes the gradient to grad (same size) when non-null and
   /// the per-term split to breakdown when non-null. Returns +infinity (gradient zeroed) when a
@@ -177,6 +186,8 @@ class MidendProblem {
   double extra_cost(const double* x, bool want_grad, CostBreakdown* breakdown);
 
   ReferencePath reference_;
+  double extra_cutoff_ = std::numeric_limits<double>::infinity();
+  bool extra_skipped_ = false;
   MidendLimits limits_;
   MidendSettings settings_;
   minco::PenaltyFunction penalty_;
