@@ -82,6 +82,8 @@ json backend_json(const BackendRun& run) {
            {"iterations", r.iterations},
            {"evaluations", r.evaluations},
            {"rounds", r.rounds},
+           {"rechecks", r.rechecks},
+           {"recheck_ms", r.recheck_s * 1e3},
            {"probe_evaluations", r.probe_evaluations},
            {"safety_skips", r.safety_skips},
            {"num_pieces", r.num_pieces},

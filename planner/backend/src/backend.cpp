@@ -117,8 +117,11 @@ int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t*
   auto* ctx = static_cast<SolveContext*>(instance);
   ctx->round_iterations = k;
   ctx->current_f = fx;
-  // The re-check at a low rate: stop at the first accepted iterate the kernel check passes.
-  if (ctx->checker && ctx->recheck_every > 0 && k % ctx->recheck_every == 0) {
+  // The re-check at a low rate: stop at the first accepted iterate the kernel check passes. Not
+  // where the safety term proves a collision (SafetyStats::certain_collision; ctx->cost is the
+  // accepted iterate's, the line search's last evaluation): the check could only fail there.
+  if (ctx->checker && ctx->recheck_every > 0 && k % ctx->recheck_every == 0 &&
+      !ctx->cost.safety_stats.certain_collision) {
     const auto t0 = Clock::now();
     for (int i = 0; i < n; ++i) ctx->x[i] = ctx->scale * y[i];
     const std::optional<Trajectory> traj = ctx->problem->trajectory(ctx->x.data());

@@ -45,6 +45,7 @@ std::uint64_t map_key(const OccupancyGrid& map) {
 SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
                                  const SvsdfSafetySettings& settings)
     : sdf_(&sdf), settings_(settings), body_(model, settings.body) {
+  certain_below_m_.fill(-std::numeric_limits<double>::infinity());
   for (int w = 0; w < std::max(1, settings_.threads); ++w) {
     workers_.push_back(std::make_unique<Worker>(sdf, body_, settings_.kc));
   }
@@ -66,6 +67,11 @@ void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& init
     index_points();
   }
   hints_.assign(points_.size(), no_hints());
+  for (int j = 0; j < kNumLinks; ++j) {
+    const LinkSdf& l = sdf_->link(j);
+    certain_below_m_[static_cast<std::size_t>(j)] =
+        l.empty() ? -std::numeric_limits<double>::infinity() : 0.5 * map_W.resolution_m() - l.fine().error_bound_m();
+  }
   refresh_decisions();
 }
 
@@ -255,6 +261,7 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
       if (!(mask & (1u << j))) continue;
       const double d = l.d;
       ++w.stats.link_queries;
+      if (l.g < certain_below_m_[static_cast<std::size_t>(j)]) w.stats.certain_collision = true;
       w.stats.min_distance_m = std::min(w.stats.min_distance_m, d);
       w.stats.inside += d < 0.0;
       const double x = margin_of(o, j) - d;
@@ -290,6 +297,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
     total.link_queries += w->stats.link_queries;
     total.violations += w->stats.violations;
     total.inside += w->stats.inside;
+    total.certain_collision = total.certain_collision || w->stats.certain_collision;
     total.min_distance_m = std::min(total.min_distance_m, w->stats.min_distance_m);
   }
   total.cost = cost;

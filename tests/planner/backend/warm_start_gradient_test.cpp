@@ -13,6 +13,8 @@
 //    link it applies to, Algorithm 1 with no cap: the same J_s.
 //  - The solve itself, bounded by iterations (not time): it takes steps and comes out
 //    collision-free under the kernel re-check.
+//  - SafetyStats::certain_collision only where the kernel check fails (warm starts shifted into
+//    the tunnel's walls; the collision-free solve result has none).
 //  - The line-search economies (BackendSettings::probe_first_step, skip_safety_above_current):
 //    the J_s cutoff returns the mid-end terms alone and leaves the iterates unchanged; the probe
 //    makes the first line search shorter.
@@ -193,6 +195,8 @@ TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
   EXPECT_GT(r.iterations, 0);
   EXPECT_LT(r.final_cost.safety, 0.7 * r.initial_cost.safety);
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;
+  // A trajectory the kernel check passes has no certain collision.
+  EXPECT_FALSE(r.final_cost.safety_stats.certain_collision);
 }
 
 TEST(BackendWarmStart, TunnelSeed1CutoffSkipsJsAndReturnsTheMidendTerms) {
@@ -279,6 +283,34 @@ TEST(BackendWarmStart, TunnelSeed1FirstStepProbeShortensTheFirstLineSearch) {
   EXPECT_LT(probed.final_cost.total(), probed.initial_cost.total());
   EXPECT_LT(plain.final_cost.total(), plain.initial_cost.total());
   EXPECT_LT(probed.evaluations, plain.evaluations);
+}
+
+TEST(BackendWarmStart, TunnelSeed1CertainCollisionOnlyWhereTheKernelCheckFails) {
+  const TunnelCase tc = tunnel_case();
+  SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
+  int certain = 0;
+  for (const double dy : {-0.6, -0.3, -0.1, 0.0, 0.1, 0.3, 0.6}) {
+    // The warm start moved sideways by dy (the base's y polynomial's constant term).
+    std::vector<TrajectoryPiece> pieces;
+    for (int i = 0; i < tc.ws.trajectory->num_pieces(); ++i) {
+      TrajectoryPiece p = tc.ws.trajectory->piece(i);
+      p.coeffs(0, 1) += dy;
+      pieces.push_back(p);
+    }
+    TrajectoryResult moved = Trajectory::create(std::move(pieces), tc.ws.trajectory->start_yaw_rad());
+    ASSERT_TRUE(moved.ok()) << moved.error;
+    safety.prepare(tc.grid, *moved.trajectory);
+    TrajectoryGradient grad;
+    grad.reset(moved.trajectory->num_pieces());
+    SafetyStats stats;
+    safety.evaluate(*moved.trajectory, grad, &stats);
+    const bool in_collision = tc.checker->check_trajectory(*moved.trajectory).in_collision;
+    if (stats.certain_collision) {
+      ++certain;
+      EXPECT_TRUE(in_collision) << "dy " << dy;
+    }
+  }
+  EXPECT_GE(certain, 2) << "some shifts must put a link into a wall";
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // The back-end safety penalty (paper eq. safety_penalty) on KC-SVSDF distances:
 //   J_s = w * sum_i sum_j L(max(0, s_j - d_j(x_i))),  L(x) = x^3,
+// (SafetyStats::certain_collision: some g_j(x_i) < h/2 - the field's error, see certain_below_m_)
 // over obstacle points x_i (obstacle_points.hpp) and links j = 0..7, d_j = D[j] of Algorithm 1
 // (kc_svsdf.hpp), s_j the link's threshold s_thr (its ground margin for ground points). With
 // kinematic_filter = false this is the paper's ablation baseline svsdf_per_link (each link's SVSDF
@@ -38,6 +39,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -101,6 +103,7 @@ class SvsdfSafetyTerm : public SafetyTerm {
   void set_points(std::vector<ObstaclePoint> points) {
     points_ = std::move(points);
     map_key_ = 0;
+    certain_below_m_.fill(-std::numeric_limits<double>::infinity());
     index_points();
     decisions_.clear();
     decisions_.resize(points_.size());
@@ -150,6 +153,11 @@ class SvsdfSafetyTerm : public SafetyTerm {
   std::array<double, kNumLinks> margin_{};
   std::array<double, kNumLinks> ground_margin_{};
   std::vector<ObstaclePoint> points_;
+  /// Per link: g_j below this proves a collision (SafetyStats::certain_collision): the point is
+  /// an occupied voxel's centre, a ball of radius h/2 around it lies in the voxel, and g_j errs by
+  /// at most the fine grid's bound (values this low are read from the fine grid). -infinity until
+  /// prepare() gives the voxel size (points from set_points() have none).
+  std::array<double, kNumLinks> certain_below_m_{};
   std::uint64_t map_key_ = 0;      ///< of the map points_ came from (0: none / set_points)
   std::vector<TimeHints> hints_;   ///< per point: t*_j of the last evaluate()
   /// Per point: the frozen ball-search decisions (allocated on first use; null: none).
