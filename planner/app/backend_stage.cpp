@@ -4,6 +4,7 @@
 #include <chrono>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include "porter/backend/backend.hpp"
 #include "porter/backend/recheck_margins.hpp"
@@ -41,12 +42,25 @@ BackendRun run_backend(const PlanArgs& args, const RobotModel& model, const Occu
   }
   std::unique_ptr<backend::SafetyTerm> term =
       baselines::make_safety_term(model_kind, model, sdf ? &*sdf : nullptr, term_settings);
+  // The self-collision penalty (self_collision_term.hpp) on the pairs the re-check examines, with
+  // every safety model that has link SDFs.
+  std::optional<backend::SelfCollisionTerm> self_term;
+  if (const auto* kernels = dynamic_cast<const planner::KernelCollisionChecker*>(&recheck);
+      kernels && sdf && args.self_collision_term) {
+    const planner::SelfCollisionChecker& self = kernels->self_collision();
+    std::vector<std::array<int, 2>> pairs;
+    for (int a = 0; a < kNumLinks; ++a)
+      for (int b = a + 1; b < kNumLinks; ++b)
+        if (self.pair_status(a, b) == planner::PairStatus::kChecked) pairs.push_back({a, b});
+    self_term.emplace(model, *sdf, pairs, self.inflation_bound_m());
+    run.self_collision_term = true;
+  }
 
   backend::BackendSettings settings;
   settings.problem = midend_settings;
   settings.max_iterations = args.backend_max_iterations;
   const backend::BackEnd solver(model, settings);
-  run.result = solver.solve(path, warm_start, grid_W, *term, run.budget_s, &recheck);
+  run.result = solver.solve(path, warm_start, grid_W, *term, run.budget_s, &recheck, self_term ? &*self_term : nullptr);
   return run;
 }
 

@@ -16,6 +16,7 @@ namespace porter::app {
 struct BackendRun {
   backend::BackendResult result;
   std::string safety_model;    ///< "kc_svsdf", "svsdf_per_link" or "spheres"
+  bool self_collision_term = false;  ///< the self-collision penalty took part
   double setup_s = 0.0;        ///< per-link SDF build (once per robot + payload; not in the budget)
   double budget_s = 0.0;
 };

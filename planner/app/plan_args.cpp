@@ -24,7 +24,7 @@ std::string plan_usage() {
          "                   [--robot FILE] [--stages front|mid|full] [--frontend-budget-ms MS]\n"
          "                   [--midend-budget-ms MS] [--backend-budget-ms MS] [--backend-iterations N]\n"
          "                   [--safety kc_svsdf|svsdf_per_link] [--collision kernels|spheres]\n"
-         "                   [--out FILE] [--quiet]\n"
+         "                   [--self-collision-term on|off] [--out FILE] [--quiet]\n"
          "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
          "  --seed N                seed of the scene's random obstacles and of the planner\n"
          "                          (default: the scene file's seed)\n"
@@ -42,6 +42,8 @@ std::string plan_usage() {
          "  --collision C           kernels (default) or spheres (sphere-ESDF baseline in the\n"
          "                          front-end and as the back-end term; not with --safety); the\n"
          "                          final re-check is by kernels either way\n"
+         "  --self-collision-term on|off  the back-end's self-collision penalty next to the safety\n"
+         "                          term (default on; not part of the paper, off for comparison)\n"
          "  --out FILE              write the JSON result there\n"
          "  --quiet                 print nothing on success\n"
          "exit codes: 0 success, 1 planning failed (incl. a final trajectory in collision), 2 bad\n"
@@ -125,6 +127,11 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
       if (c == "kernels") a.collision = CollisionArg::kKernels;
       else if (c == "spheres") a.collision = CollisionArg::kSpheres;
       else throw ArgsError("--collision: expected kernels or spheres, got '" + c + "'");
+    } else if (flag == "--self-collision-term") {
+      const std::string v = value();
+      if (v == "on") a.self_collision_term = true;
+      else if (v == "off") a.self_collision_term = false;
+      else throw ArgsError("--self-collision-term: expected on or off, got '" + v + "'");
     } else if (flag == "--out") {
       a.out_path = value();
     } else if (flag == "--quiet") {

@@ -39,6 +39,8 @@ struct PlanArgs {
   SafetyArg safety = SafetyArg::kKcSvsdf;
   bool safety_given = false;                ///< --safety was on the command line
   CollisionArg collision = CollisionArg::kKernels;
+  /// The back-end's self-collision penalty (backend/self_collision_term.hpp), --self-collision-term.
+  bool self_collision_term = true;
   std::optional<std::string> out_path;
   bool quiet = false;
   bool help = false;

@@ -59,6 +59,8 @@ json safety_json(const backend::BackendCost& c) {
               {"safety", c.safety},
               {"violations", c.safety_stats.violations},
               {"inside", c.safety_stats.inside},
+              {"self_collision", c.self_collision},
+              {"self_violations", c.self_stats.violations},
               {"min_distance_m", std::isfinite(min_d) ? json(min_d) : json(nullptr)}};
 }
 
@@ -74,10 +76,12 @@ json backend_json(const BackendRun& run) {
            {"reason", r.message},
            {"success", r.success()},
            {"safety_model", run.safety_model},
+           {"self_collision_term", run.self_collision_term},
            {"time_ms", r.elapsed_s * 1e3},
            {"budget_ms", run.budget_s * 1e3},
            {"optimize_ms", r.optimize_s * 1e3},
            {"safety_ms", r.safety_s * 1e3},
+           {"self_collision_ms", r.self_collision_s * 1e3},
            {"setup_ms", run.setup_s * 1e3},
            {"iterations", r.iterations},
            {"evaluations", r.evaluations},

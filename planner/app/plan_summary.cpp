@@ -47,11 +47,11 @@ std::string backend_summary(const BackendRun& run) {
   const backend::BackendResult& r = run.result;
   char buf[768];
   std::snprintf(buf, sizeof buf,
-                "back-end: %s %.1f ms (optimize %.1f ms, safety term %.1f ms, check %.1f ms; sdf setup %.1f ms), "
-                "iterations %d, evaluations %d, safety %s, J_s %.3g -> %.3g",
-                backend::to_string(r.status), r.elapsed_s * 1e3, r.optimize_s * 1e3, r.safety_s * 1e3, r.check_s * 1e3,
-                run.setup_s * 1e3, r.iterations, r.evaluations, run.safety_model.c_str(), r.initial_cost.safety,
-                r.ok() ? r.final_cost.safety : std::nan(""));
+                "back-end: %s %.1f ms (optimize %.1f ms, safety term %.1f ms, self-collision term %.1f ms, check %.1f ms; "
+                "sdf setup %.1f ms), iterations %d, evaluations %d, safety %s, J_s %.3g -> %.3g",
+                backend::to_string(r.status), r.elapsed_s * 1e3, r.optimize_s * 1e3, r.safety_s * 1e3,
+                r.self_collision_s * 1e3, r.check_s * 1e3, run.setup_s * 1e3, r.iterations, r.evaluations,
+                run.safety_model.c_str(), r.initial_cost.safety, r.ok() ? r.final_cost.safety : std::nan(""));
   std::string line = buf;
   if (r.ok()) {
     std::snprintf(buf, sizeof buf, ", kernel re-check: %s", backend::to_string(r.check));

@@ -8,6 +8,8 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <cstdio>
+#include <cstdlib>
 
 #include "porter/midend/lbfgs_codes.hpp"
 #include "porter/midend/lbfgs_driver.hpp"
@@ -32,6 +34,7 @@ struct SolveContext {
   int iterations = 0;
   int evaluations = 0;
   double safety_s = 0.0;
+  double self_s = 0.0;
   bool budget_hit = false;
   int safe_streak = 0;          ///< consecutive iterations with zero collision cost
   int stop_after_safe = 0;
@@ -96,6 +99,7 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
       for (int k = 0; k < n; ++k) g[k] *= ctx->scale;
     }
     ctx->safety_s += ctx->cost.safety_stats.time_s;
+    ctx->self_s += ctx->cost.self_stats.time_s;
   }
   ctx->last_safety = ctx->cost.safety;
   if (!std::isfinite(ctx->current_f)) ctx->current_f = f;  // the round's starting point
@@ -126,7 +130,9 @@ int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t*
     for (int i = 0; i < n; ++i) ctx->x[i] = ctx->scale * y[i];
     const std::optional<Trajectory> traj = ctx->problem->trajectory(ctx->x.data());
     ++ctx->rechecks;
-    const bool free = traj && !ctx->checker->check_trajectory(*traj).in_collision;
+    const planner::CollisionResult cr = traj ? ctx->checker->check_trajectory(*traj) : planner::CollisionResult{};
+    const bool free = traj && !cr.in_collision;
+    if (getenv("RC_DEBUG")) fprintf(stderr, "recheck it %d Js %.3f min d %.4f -> link %d other %d\n", k, ctx->cost.safety, ctx->cost.safety_stats.min_distance_m, cr.link, cr.other_link);
     ctx->check_s += seconds_since(t0);
     if (free) {
       ctx->found_free = true;
@@ -164,6 +170,7 @@ void first_step_scale(SolveContext& ctx, double* y, int n, double max_scale) {
   ++ctx.evaluations;
   const double f0 = ctx.problem->evaluate(x0.data(), g0.data(), &c0);
   ctx.safety_s += c0.safety_stats.time_s;
+  ctx.self_s += c0.self_stats.time_s;
   double new_scale = max_scale;
   const double gn = g0.norm();
   if (std::isfinite(f0) && gn > 0.0) {
@@ -172,6 +179,7 @@ void first_step_scale(SolveContext& ctx, double* y, int n, double max_scale) {
     ++ctx.probes;
     const double f1 = ctx.problem->evaluate(x1.data(), g1.data(), &c1);
     ctx.safety_s += c1.safety_stats.time_s;
+    ctx.self_s += c1.self_stats.time_s;
     const double c = std::isfinite(f1) ? -(g1 - g0).dot(g0) / (gn * kProbeStep) : 0.0;
     if (c > 0.0) new_scale = std::clamp(gn / c, kMinScale, max_scale);
   }
@@ -229,7 +237,7 @@ BackEnd::BackEnd(const midend::MidendLimits& limits, BackendSettings settings)
 
 BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajectory& warm_start,
                              const OccupancyGrid& map_W, SafetyTerm& safety, double time_budget_s,
-                             const planner::CollisionChecker* checker) const {
+                             const planner::CollisionChecker* checker, SelfCollisionTerm* self_collision) const {
   const auto start = Clock::now();
   BackendResult r;
   r.safety_term = safety.name();
@@ -252,7 +260,8 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     return r;
   }
   safety.prepare(map_W, warm_start);
-  BackendProblem problem(std::move(ref.path), limits_, settings_.problem, safety);
+  if (self_collision) self_collision->prepare(warm_start);
+  BackendProblem problem(std::move(ref.path), limits_, settings_.problem, safety, self_collision);
   r.num_pieces = problem.num_pieces();
   r.num_variables = problem.num_variables();
   Eigen::VectorXd x0;
@@ -344,6 +353,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   r.iterations = ctx.iterations;
   r.evaluations = ctx.evaluations;
   r.safety_s = ctx.safety_s;
+  r.self_collision_s = ctx.self_s;
   r.rechecks = ctx.rechecks;
   r.probe_evaluations = ctx.probes;
   r.safety_skips = ctx.skipped;

@@ -9,8 +9,9 @@
 namespace porter::backend {
 
 BackendProblem::BackendProblem(midend::ReferencePath reference, const midend::MidendLimits& limits,
-                               const midend::MidendSettings& settings, SafetyTerm& safety)
-    : midend_(std::move(reference), limits, settings), safety_(&safety) {
+                               const midend::MidendSettings& settings, SafetyTerm& safety,
+                               SelfCollisionTerm* self_collision)
+    : midend_(std::move(reference), limits, settings), safety_(&safety), self_(self_collision) {
   midend_.set_extra_cost([this](const Trajectory& traj, midend::ExtraCostGradient* grad) {
     return safety_cost(traj, grad);
   });
@@ -19,7 +20,14 @@ BackendProblem::BackendProblem(midend::ReferencePath reference, const midend::Mi
 double BackendProblem::safety_cost(const Trajectory& traj, midend::ExtraCostGradient* grad) {
   const int n = traj.num_pieces();
   tgrad_.reset(n);
-  const double js = safety_scale_ * safety_->evaluate(traj, tgrad_, &stats_);
+  double raw = safety_->evaluate(traj, tgrad_, &stats_);
+  last_js_ = raw;
+  last_self_ = 0.0;
+  if (self_) {
+    last_self_ = self_->evaluate(traj, tgrad_, &self_stats_);
+    raw += last_self_;
+  }
+  const double js = safety_scale_ * raw;
   if (!std::isfinite(js)) return std::numeric_limits<double>::infinity();
   if (grad) {
     if (static_cast<int>(grad->coeffs.size()) != n || static_cast<int>(grad->durations_s.size()) != n)
@@ -59,11 +67,16 @@ double BackendProblem::evaluate(const double* x, double* grad, BackendCost* cost
   BackendCost& c = cost ? *cost : local;
   c = BackendCost{};
   stats_ = SafetyStats{};
+  self_stats_ = SelfCollisionStats{};
+  last_self_ = 0.0;
+  last_js_ = 0.0;
   midend_.set_extra_cutoff(cutoff);
   const double f = midend_.evaluate(x, grad, &c.midend);
   c.safety_skipped = midend_.extra_skipped();
-  c.safety = c.midend.extra / safety_scale_;
+  c.self_collision = last_self_;
+  c.safety = last_js_;
   c.safety_stats = stats_;
+  c.self_stats = self_stats_;
   if (!std::isfinite(f)) {
     if (grad) std::fill(grad, grad + num_variables(), 0.0);
     return std::numeric_limits<double>::infinity();

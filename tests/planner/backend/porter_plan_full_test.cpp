@@ -1,7 +1,8 @@
 // porter-plan --stages full end to end: the back-end flags (--safety, --collision and the budgets)
 // are validated with exit code 2, and on the ablation scene (bridge, h_b = 0.9 m) a mid-end
 // trajectory in collision goes to the back-end, whose section, final re-check and trajectory are
-// in the JSON result; the same seed gives the same result.
+// in the JSON result; the same seed gives the same result. On bridge h_b = 1.1 m seed 12 the
+// back-end's self-collision term decides the outcome: without it the arm ends on the base.
 
 #include <string>
 
@@ -106,6 +107,35 @@ TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
   EXPECT_EQ(ablation["backend"]["safety_model"], "svsdf_per_link");
   EXPECT_EQ(ablation["midend"]["evaluations"], doc["midend"]["evaluations"]);
   EXPECT_EQ(ablation["backend"]["initial_cost"]["total"].is_number(), true);
+}
+
+TEST_F(PorterPlanFull, SelfCollisionTermKeepsTheArmOffTheBaseOnBridge11Seed12) {
+  // Budgets large enough that only the iteration cap can stop a stage: the same result anywhere.
+  auto args = [&](const std::string& out, const std::string& term) {
+    return "--scene " + scene("bridge") + " --set h_b=1.1 --seed 12 --stages full --frontend-budget-ms 20000" +
+           " --midend-budget-ms 20000 --backend-budget-ms 120000 --backend-iterations 300 --self-collision-term " +
+           term + " --out " + (dir_ / out).string();
+  };
+  EXPECT_EQ(run(args("bad.json", "maybe"), "x"), 2);
+  EXPECT_NE(file("stderrx.txt").find("--self-collision-term: expected on or off"), std::string::npos);
+
+  const int with = run(args("on.json", "on"), "on");
+  const auto on = nlohmann::json::parse(file("on.json"));
+  ASSERT_EQ(on["midend"]["direct_execution"], false) << "the fixture needs the back-end";
+  EXPECT_EQ(on["backend"]["self_collision_term"], true);
+  EXPECT_EQ(with, 0) << file("stdouton.txt");
+  EXPECT_EQ(on["final_check"]["collision_free"], true);
+  EXPECT_TRUE(on["backend"]["final_cost"]["self_collision"].is_number());
+
+  // Without the term the obstacles are cleared too, but the arm's link 3 ends on the base
+  // (the self-collision pair 0-3) for every remaining iteration.
+  const int without = run(args("off.json", "off"), "off");
+  const auto off = nlohmann::json::parse(file("off.json"));
+  EXPECT_EQ(off["backend"]["self_collision_term"], false);
+  EXPECT_EQ(without, 1);
+  EXPECT_EQ(off["final_check"]["collision_free"], false);
+  EXPECT_EQ(off["final_check"]["collision_link"], 0);
+  EXPECT_LT(off["backend"]["final_cost"]["safety"].get<double>(), 20.0);
 }
 
 }  // namespace

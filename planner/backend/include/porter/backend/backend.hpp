@@ -1,6 +1,7 @@
 #pragma once
 // The back-end (paper §VI): when the mid-end's trajectory is not collision-free, re-optimize it on
-// the mid-end's problem plus the safety penalty J_s of a SafetyTerm (KC-SVSDF by default), warm
+// the mid-end's problem plus the safety penalty J_s of a SafetyTerm (KC-SVSDF by default; and a
+// self-collision penalty when the caller gives one, Porter's addition), warm
 // started from the mid-end's trajectory, within a time budget; then re-check the answer with the
 // kernel motion check.
 //
@@ -19,6 +20,7 @@
 #include "porter/backend/backend_result.hpp"
 #include "porter/backend/backend_settings.hpp"
 #include "porter/backend/safety_term.hpp"
+#include "porter/backend/self_collision_term.hpp"
 #include "porter/core/occupancy_grid.hpp"
 #include "porter/core/robot_model.hpp"
 #include "porter/midend/midend_limits.hpp"
@@ -37,9 +39,12 @@ class BackEnd {
   /// `path`: the front-end path the mid-end solved; `warm_start`: the mid-end's trajectory for it
   /// (same MidendSettings as settings().problem); `map_W`: the obstacles; `checker`: the final
   /// re-check (nullptr: SafetyCheck::kNotChecked). time_budget_s <= 0 selects the default.
+  /// `self_collision` (optional, Porter's addition): its J_self joins J_s (self_collision_term.hpp);
+  /// prepare()d here from the warm start. Like `safety`, used by one solve at a time.
   BackendResult solve(const planner::WholeBodyPath& path, const Trajectory& warm_start,
                       const OccupancyGrid& map_W, SafetyTerm& safety, double time_budget_s,
-                      const planner::CollisionChecker* checker = nullptr) const;
+                      const planner::CollisionChecker* checker = nullptr,
+                      SelfCollisionTerm* self_collision = nullptr) const;
 
  private:
   midend::MidendLimits limits_;

@@ -10,8 +10,9 @@
 // (T = exp(sigma) T(tau)) and gear-state mapping. Nothing here knows the decision-vector layout
 // except the warm start (warm_start.hpp), whose result is verified against the mid-end's own map.
 //
-// Cost split: BackendCost::midend is the mid-end's breakdown, whose `extra` is J_s; `safety`
-// repeats it, and total() counts it once.
+// Cost split: BackendCost::midend is the mid-end's breakdown, whose `extra` is J_s (+ J_self with a
+// SelfCollisionTerm, both times the safety scale); `safety` and `self_collision` repeat them
+// unscaled, and total() counts them once.
 //
 // Not thread-safe (workspaces inside); one per solve. The SafetyTerm is used from evaluate() only.
 
@@ -21,6 +22,7 @@
 #include <Eigen/Core>
 
 #include "porter/backend/safety_term.hpp"
+#include "porter/backend/self_collision_term.hpp"
 #include "porter/core/trajectory.hpp"
 #include "porter/midend/midend_limits.hpp"
 #include "porter/midend/midend_problem.hpp"
@@ -33,6 +35,9 @@ struct BackendCost {
   midend::CostBreakdown midend;  ///< the mid-end's terms; midend.extra = J_s
   double safety = 0.0;           ///< J_s (= midend.extra / safety scale; 0 when masked off)
   SafetyStats safety_stats;      ///< of the SafetyTerm evaluation behind `safety`
+  /// J_self (self_collision_term.hpp; 0 without one), unscaled like `safety`.
+  double self_collision = 0.0;
+  SelfCollisionStats self_stats;
   /// J_s was not evaluated (evaluate()'s cutoff): safety = 0 and the cost is a lower bound only.
   bool safety_skipped = false;
   double total() const { return midend.total(); }
@@ -41,9 +46,11 @@ struct BackendCost {
 class BackendProblem {
  public:
   /// `reference` from midend::build_reference_path (kOk). `safety` must be prepare()d and outlive
-  /// the problem.
+  /// the problem; so must `self_collision` when given (prepare()d too), whose J_self is added to
+  /// the extra cost next to J_s (and scaled with it).
   BackendProblem(midend::ReferencePath reference, const midend::MidendLimits& limits,
-                 const midend::MidendSettings& settings, SafetyTerm& safety);
+                 const midend::MidendSettings& settings, SafetyTerm& safety,
+                 SelfCollisionTerm* self_collision = nullptr);
   BackendProblem(const BackendProblem&) = delete;  // the extra cost captures `this`
   BackendProblem& operator=(const BackendProblem&) = delete;
 
@@ -79,8 +86,12 @@ class BackendProblem {
 
   midend::MidendProblem midend_;
   SafetyTerm* safety_;
+  SelfCollisionTerm* self_ = nullptr;
   TrajectoryGradient tgrad_;
   SafetyStats stats_;
+  SelfCollisionStats self_stats_;
+  double last_js_ = 0.0;    ///< unscaled J_s of the last extra-cost call
+  double last_self_ = 0.0;  ///< unscaled J_self of the last extra-cost call
   double safety_scale_ = 1.0;
 };
 

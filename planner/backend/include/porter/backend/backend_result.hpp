@@ -63,6 +63,7 @@ struct BackendResult {
   double elapsed_s = 0.0;           ///< whole solve(), re-check included
   double optimize_s = 0.0;          ///< L-BFGS
   double safety_s = 0.0;            ///< inside SafetyTerm::evaluate (part of optimize_s)
+  double self_collision_s = 0.0;    ///< inside SelfCollisionTerm::evaluate (part of optimize_s)
   double check_s = 0.0;             ///< the re-check
   double recheck_s = 0.0;           ///< in-loop re-checks (part of optimize_s)
   int iterations = 0;               ///< over every round
