@@ -8,8 +8,6 @@
 #include <limits>
 #include <optional>
 #include <string>
-#include <cstdio>
-#include <cstdlib>
 
 #include "porter/midend/lbfgs_codes.hpp"
 #include "porter/midend/lbfgs_driver.hpp"
@@ -114,6 +112,11 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
   return f;
 }
 
+/// What progress_cb returns to stop L-BFGS; lbfgs() returns it verbatim. Not 1: that is
+/// LBFGS_STOP, the relative-cost test's own code, and a stop at the budget was reported as
+/// convergence ("stopped by the relative cost decrease test") before.
+constexpr int kStop = LBFGSERR_CANCELED;
+
 int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t* /*g*/,
                 const lbfgsfloatval_t fx, const lbfgsfloatval_t /*xnorm*/,
                 const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int n, int k,
@@ -130,28 +133,26 @@ int progress_cb(void* instance, const lbfgsfloatval_t* y, const lbfgsfloatval_t*
     for (int i = 0; i < n; ++i) ctx->x[i] = ctx->scale * y[i];
     const std::optional<Trajectory> traj = ctx->problem->trajectory(ctx->x.data());
     ++ctx->rechecks;
-    const planner::CollisionResult cr = traj ? ctx->checker->check_trajectory(*traj) : planner::CollisionResult{};
-    const bool free = traj && !cr.in_collision;
-    if (getenv("RC_DEBUG")) fprintf(stderr, "recheck it %d Js %.3f min d %.4f -> link %d other %d\n", k, ctx->cost.safety, ctx->cost.safety_stats.min_distance_m, cr.link, cr.other_link);
+    const bool free = traj && !ctx->checker->check_trajectory(*traj).in_collision;
     ctx->check_s += seconds_since(t0);
     if (free) {
       ctx->found_free = true;
-      return 1;
+      return kStop;
     }
   }
   // The last evaluation of an iteration is the accepted point's.
   ctx->safe_streak = ctx->last_safety == 0.0 ? ctx->safe_streak + 1 : 0;
   if (ctx->stop_after_safe > 0 && ctx->safe_streak >= ctx->stop_after_safe) {
     ctx->stopped_safe = true;
-    return 1;
+    return kStop;
   }
   if (seconds_since(ctx->start) >= ctx->budget_s) {
     ctx->budget_hit = true;
-    return 1;
+    return kStop;
   }
   if (ctx->refresh_every > 0 && k >= ctx->refresh_every) {
     ctx->refresh_requested = true;
-    return 1;
+    return kStop;
   }
   return 0;
 }
@@ -304,6 +305,7 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   double weight_scale = 1.0;
   int rounds = 0;
   int escalations = 0;
+  bool escalation_cut = false;  ///< the budget ended before an escalation the re-check called for
   for (;;) {
     problem.set_safety_scale(weight_scale);
     safety.refresh_decisions();
@@ -331,7 +333,11 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
     }
     if (!checker) break;
     if (escalations >= settings_.max_weight_escalations || !std::isfinite(fx)) break;
-    if (seconds_since(start) >= budget_s || ctx.iterations >= settings_.max_iterations) break;
+    if (seconds_since(start) >= budget_s) {
+      escalation_cut = true;  // the round ended just as the budget did
+      break;
+    }
+    if (ctx.iterations >= settings_.max_iterations) break;
     const bool stopped = code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
                          code == LBFGSERR_MAXIMUMITERATION || midend::lbfgs_code_is_stall(code);
     if (!stopped) break;
@@ -383,6 +389,12 @@ BackendResult BackEnd::solve(const planner::WholeBodyPath& path, const Trajector
   if (!std::isfinite(f1)) {
     r.status = BackendStatus::kNumericalFailure;
     r.message = detail + "; final cost is not finite";
+  } else if (escalation_cut) {
+    // L-BFGS converged at this weight, but the solve would have raised it had the budget allowed:
+    // report the budget, not convergence (the re-check below decides success either way).
+    r.status = BackendStatus::kTimeBudgetExceeded;
+    r.message = detail + "; the budget ended before the safety weight could be raised";
+    if (escalations > 0) r.message += " (weight x" + std::to_string(static_cast<int>(weight_scale)) + ")";
   } else if (code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED ||
              (code == LBFGSERR_CANCELED && (ctx.stopped_safe || ctx.found_free))) {
     r.status = BackendStatus::kConverged;

@@ -5,8 +5,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <cstdio>
-#include <cstdlib>
 #include <thread>
 
 namespace porter::backend {
@@ -278,21 +276,16 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
 double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradient& grad, SafetyStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   body_.reset(trajectory);
-  const auto t_reset = std::chrono::steady_clock::now();
   if (cell_start_.size() < 2) index_points();  // points set by set_points()
   if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
   if (decisions_.size() != points_.size()) refresh_decisions();
   find_candidates();
-  const auto t_find = std::chrono::steady_clock::now();
   std::vector<std::thread> helpers;
   for (std::size_t w = 1; w < workers_.size(); ++w) {
     helpers.emplace_back([this, w, &trajectory] { run(*workers_[w], static_cast<int>(w), trajectory); });
   }
   run(*workers_[0], 0, trajectory);
-  const auto t_run0 = std::chrono::steady_clock::now();
   for (std::thread& t : helpers) t.join();
-  const auto t_run = std::chrono::steady_clock::now();
-  if (getenv("SV_DEBUG")) fprintf(stderr, "reset %.3f find %.3f run0 %.3f run %.3f cand %zu samples %d\n", std::chrono::duration<double>(t_reset-start).count()*1e3, std::chrono::duration<double>(t_find-t_reset).count()*1e3, std::chrono::duration<double>(t_run0-t_find).count()*1e3, std::chrono::duration<double>(t_run-t_find).count()*1e3, candidates_.size(), body_.num_samples());
   record_next_ = false;
   SafetyStats total;
   total.obstacle_points = static_cast<int>(points_.size());

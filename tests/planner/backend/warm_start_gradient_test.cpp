@@ -313,5 +313,23 @@ TEST(BackendWarmStart, TunnelSeed1CertainCollisionOnlyWhereTheKernelCheckFails) 
   EXPECT_GE(certain, 2) << "some shifts must put a link into a wall";
 }
 
+TEST(BackendWarmStart, TunnelSeed1StopAtTheBudgetIsNotReportedAsConvergence) {
+  // A budget below one evaluation: the line search's first trial finds it spent. (Budget stops
+  // between iterations, through the progress callback, reported "converged: stopped by the
+  // relative cost decrease test" until the callback stopped returning 1, liblbfgs's LBFGS_STOP;
+  // that path depends on timing and is not constructed here.)
+  const TunnelCase tc = tunnel_case();
+  const midend::MidEnd mid(*tc.model);
+  BackendSettings bs;
+  bs.problem = mid.settings();
+  const BackEnd backend(*tc.model, bs);
+  SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
+  const BackendResult r = backend.solve(tc.ws.path, *tc.ws.trajectory, tc.grid, term, 1e-6, tc.checker.get());
+  EXPECT_EQ(r.status, BackendStatus::kTimeBudgetExceeded) << r.message;
+  EXPECT_EQ(r.message.find("relative cost"), std::string::npos) << r.message;
+  EXPECT_TRUE(r.ok());
+  EXPECT_LE(r.iterations, 1);
+}
+
 }  // namespace
 }  // namespace porter::backend
