@@ -1,7 +1,9 @@
 #include "backend_stage.hpp"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -15,8 +17,8 @@
 namespace porter::app {
 
 BackendRun run_backend(const PlanArgs& args, const RobotModel& model, const OccupancyGrid& grid_W,
-                       const planner::WholeBodyPath& path, const Trajectory& warm_start,
-                       const midend::MidendSettings& midend_settings, const planner::CollisionChecker& recheck) {
+                       const planner::WholeBodyPath& path, const std::vector<BackendWarmStart>& warm_starts,
+                       const planner::CollisionChecker& recheck) {
   using Clock = std::chrono::steady_clock;
   BackendRun run;
   run.budget_s = args.backend_budget_ms * 1e-3;
@@ -56,11 +58,34 @@ BackendRun run_backend(const PlanArgs& args, const RobotModel& model, const Occu
     run.self_collision_term = true;
   }
 
+  // The warm start: with several, the one with the lowest J_s (the term's own measure of how deep
+  // the trajectory is in collision), at one evaluation each, taken from the budget.
+  const auto t_select = Clock::now();
+  if (warm_starts.size() > 1) {
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < warm_starts.size(); ++i) {
+      const Trajectory& t = *warm_starts[i].trajectory;
+      term->prepare(grid_W, t);
+      backend::TrajectoryGradient unused;
+      unused.reset(t.num_pieces());
+      const double js = term->evaluate(t, unused, nullptr);
+      run.warm_start_safety.push_back(js);
+      if (js < best) {
+        best = js;
+        run.warm_start = static_cast<int>(i);
+      }
+    }
+  }
+  run.selection_s = std::chrono::duration<double>(Clock::now() - t_select).count();
+  const BackendWarmStart& chosen = warm_starts[static_cast<std::size_t>(run.warm_start)];
+
   backend::BackendSettings settings;
-  settings.problem = midend_settings;
+  settings.problem = chosen.settings;
   settings.max_iterations = args.backend_max_iterations;
   const backend::BackEnd solver(model, settings);
-  run.result = solver.solve(path, warm_start, grid_W, *term, run.budget_s, &recheck, self_term ? &*self_term : nullptr);
+  const double budget = std::max(1e-3, run.budget_s - run.selection_s);
+  run.result = solver.solve(path, *chosen.trajectory, grid_W, *term, budget, &recheck, self_term ? &*self_term : nullptr);
+  run.result.elapsed_s += run.selection_s;
   return run;
 }
 

@@ -77,6 +77,9 @@ json backend_json(const BackendRun& run) {
            {"success", r.success()},
            {"safety_model", run.safety_model},
            {"self_collision_term", run.self_collision_term},
+           {"warm_start", run.warm_start},  // 0: the reported mid-end solve's trajectory; 1: the first solve's
+           {"warm_start_safety", run.warm_start_safety},
+           {"selection_ms", run.selection_s * 1e3},
            {"time_ms", r.elapsed_s * 1e3},
            {"budget_ms", run.budget_s * 1e3},
            {"optimize_ms", r.optimize_s * 1e3},
@@ -150,7 +153,7 @@ std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendRe
                          {"num_segments", mid->num_segments},
                          {"execution", midend::to_string(mid->execution)},
                          {"direct_execution", mid->execution == midend::Execution::kDirect},
-                         {"self_collision_retry", info.midend_retry.empty() ? json(nullptr) : json(info.midend_retry)},
+                         {"retry", info.midend_retry.empty() ? json(nullptr) : json(info.midend_retry)},
                          {"residual_arm_bound_rad", info.midend_arm_residual_bound_rad}};
     if (mid->trajectory) {
       doc["midend"]["duration_s"] = mid->trajectory->total_duration_s();

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "backend_stage.hpp"
 #include "checker_factory.hpp"
@@ -29,11 +30,11 @@ namespace {
 // 5 ("stage not available") is retired: every stage is built (README.md).
 enum ExitCode { kOk = 0, kPlanFailed = 1, kBadArgs = 2, kBadFile = 3, kInvalidEndpoint = 4 };
 
-/// The arm residual bound of the mid-end's self-collision retry, relative to the first solve's.
-/// Measured on the bridge ablation's self-colliding runs (seed 17 at every h_b: links 1-4, seed 13
-/// at h_b = 0.8: links 2-4): 0.5 and 0.25 both give collision-free trajectories; 0.5 keeps more
-/// freedom for the obstacle terms.
-constexpr double kSelfRetryArmResidualScale = 0.5;
+/// The arm residual bound of the mid-end's retry, relative to the first solve's. Measured on the
+/// bridge ablation's self-colliding runs (seed 17 at every h_b: links 1-4, seed 13 at h_b = 0.8:
+/// links 2-4): 0.5 and 0.25 both give collision-free trajectories; 0.5 keeps more freedom for the
+/// obstacle terms.
+constexpr double kRetryArmResidualScale = 0.5;
 
 bool write_file(const std::string& path, const std::string& text) {
   std::ofstream f(path);
@@ -142,33 +143,56 @@ int main(int argc, char** argv) {
     };
     planner::CollisionResult mid_check;
     mid = midend_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&mid_check));
-    // Not in the paper: the back-end's safety term sees obstacles only, so a mid-end trajectory
-    // whose arm hits itself (it may leave the front-end's self-collision-free arm path by up to
-    // rho_m) cannot be repaired there. Such a trajectory is solved again with the arm residual
-    // bound scaled by kSelfRetryArmResidualScale, which keeps it close to that path; the retry,
-    // if it returns a trajectory, replaces the first result (the back-end then uses its settings).
+    // Not in the paper: a mid-end trajectory in collision is solved once more with the arm
+    // residual bound scaled by kRetryArmResidualScale, which keeps it closer to the front-end's
+    // arm path (collision-free by the kernel motion check, self-collision included). The retry
+    // replaces the first result when the first hits itself (the back-end's safety term sees
+    // obstacles only) or when the retry is collision-free (then executed directly); otherwise both
+    // go to the back-end, which starts from the one with the lower safety penalty (a retry that
+    // hits itself where the first did not is dropped). Why: on the bridge ablation the first solve
+    // can cut through the deck (h_b 1.1 m seeds 12 and 20: J_s 6 100 and 11 700 at the first
+    // solve, 4 200 and 1 200 at the retry; the back-end then needs 178 and 91 ms, choice included,
+    // instead of more than its 300 ms). With --stages mid only a self-collision is retried.
+    std::optional<midend::MidendResult> first;
+    midend::MidendSettings first_settings = mid_settings;
     const auto* kernel_checker = dynamic_cast<const planner::KernelCollisionChecker*>(&kernels);
-    if (mid->trajectory && mid_check.in_collision && kernel_checker) {
-      const planner::CollisionResult self = kernel_checker->check_trajectory_self(*mid->trajectory);
+    const planner::CollisionResult self = mid->trajectory && mid_check.in_collision && kernel_checker
+                                              ? kernel_checker->check_trajectory_self(*mid->trajectory)
+                                              : planner::CollisionResult{};
+    if (mid->trajectory && mid_check.in_collision && kernel_checker &&
+        (self.in_collision || args.stages == app::Stages::kFull)) {
+      midend::MidendSettings tight = mid_settings;
+      tight.residual_arm_bound_rad *= kRetryArmResidualScale;
+      const midend::MidEnd tight_solver(model, tight);
+      planner::CollisionResult retry_check;
+      midend::MidendResult retry =
+          tight_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&retry_check));
+      std::ostringstream why;
       if (self.in_collision) {
-        midend::MidendSettings tight = mid_settings;
-        tight.residual_arm_bound_rad *= kSelfRetryArmResidualScale;
-        const midend::MidEnd tight_solver(model, tight);
-        planner::CollisionResult retry_check;
-        midend::MidendResult retry =
-            tight_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&retry_check));
-        std::ostringstream why;
-        why << "self-collision (links " << self.link << "-" << self.other_link << "): arm residual bound "
-            << mid_settings.residual_arm_bound_rad << " -> " << tight.residual_arm_bound_rad << " rad";
-        info.midend_retry = why.str();
-        if (!args.quiet) std::cout << "mid-end: " << info.midend_retry << ", solved again" << std::endl;
-        if (retry.trajectory) {
-          // The stage's cost is both solves: times, iterations and evaluations add up.
-          retry.elapsed_s += mid->elapsed_s;
-          retry.optimize_s += mid->optimize_s;
-          retry.validate_s += mid->validate_s;
-          retry.iterations += mid->iterations;
-          retry.evaluations += mid->evaluations;
+        why << "self-collision (links " << self.link << "-" << self.other_link << ")";
+      } else {
+        why << "in collision (link " << mid_check.link << ")";
+      }
+      why << ": arm residual bound " << mid_settings.residual_arm_bound_rad << " -> " << tight.residual_arm_bound_rad
+          << " rad";
+      info.midend_retry = why.str();
+      if (!args.quiet) std::cout << "mid-end: " << info.midend_retry << ", solved again" << std::endl;
+      if (retry.trajectory) {
+        // A retry that hits itself where the first did not is no use to the back-end either.
+        const bool retry_self = retry_check.in_collision && !self.in_collision &&
+                                kernel_checker->check_trajectory_self(*retry.trajectory).in_collision;
+        // The stage's cost is both solves: times, iterations and evaluations add up.
+        midend::MidendResult& kept = retry_self ? *mid : retry;
+        const midend::MidendResult& other = retry_self ? retry : *mid;
+        kept.elapsed_s += other.elapsed_s;
+        kept.optimize_s += other.optimize_s;
+        kept.validate_s += other.validate_s;
+        kept.iterations += other.iterations;
+        kept.evaluations += other.evaluations;
+        if (retry_self) {
+          info.midend_retry += " (the retry hits itself: not used)";
+        } else {
+          if (!self.in_collision && retry_check.in_collision) first = std::move(mid);  // a second warm start
           mid = std::move(retry);
           mid_check = retry_check;
           mid_settings = tight;
@@ -187,7 +211,9 @@ int main(int argc, char** argv) {
     }
     // Back-end (paper §VI): only when the mid-end's trajectory collides.
     if (mid->trajectory && mid->execution == midend::Execution::kNeedsBackend && args.stages == app::Stages::kFull) {
-      back = app::run_backend(args, model, grid, result.path, *mid->trajectory, mid_settings, kernels);
+      std::vector<app::BackendWarmStart> warm_starts{{&*mid->trajectory, mid_settings}};
+      if (first && first->trajectory) warm_starts.push_back({&*first->trajectory, first_settings});
+      back = app::run_backend(args, model, grid, result.path, warm_starts, kernels);
       const backend::BackendResult& r = back->result;
       status = backend::to_string(r.status);
       if (r.ok()) {

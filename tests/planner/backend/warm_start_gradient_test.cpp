@@ -15,6 +15,9 @@
 //    collision-free under the kernel re-check.
 //  - SafetyStats::certain_collision only where the kernel check fails (warm starts shifted into
 //    the tunnel's walls; the collision-free solve result has none).
+//  - The self-collision term on a second frozen fixture (bridge h_b 1.1 m seed 12, the first
+//    mid-end solve, data/bridge_h11_seed12_warm_start.json from porter-plan --stages mid at the
+//    commit that added it): without it the back-end clears the deck and leaves link 3 on the base.
 //  - The line-search economies (BackendSettings::probe_first_step, skip_safety_above_current):
 //    the J_s cutoff returns the mid-end terms alone and leaves the iterates unchanged; the probe
 //    makes the first line search shorter.
@@ -32,6 +35,7 @@
 #include "porter/backend/backend.hpp"
 #include "porter/backend/backend_problem.hpp"
 #include "porter/backend/recheck_margins.hpp"
+#include "porter/backend/self_collision_term.hpp"
 #include "porter/backend/svsdf_safety_term.hpp"
 #include "porter/core/scene_loader.hpp"
 #include "porter/core/scene_voxelizer.hpp"
@@ -329,6 +333,49 @@ TEST(BackendWarmStart, TunnelSeed1StopAtTheBudgetIsNotReportedAsConvergence) {
   EXPECT_EQ(r.message.find("relative cost"), std::string::npos) << r.message;
   EXPECT_TRUE(r.ok());
   EXPECT_LE(r.iterations, 1);
+}
+
+TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
+  const std::string dir = testing::source_dir();
+  const WarmStart ws = load_fixture(dir + "/tests/planner/backend/data/bridge_h11_seed12_warm_start.json");
+  SceneLoadOptions options;
+  options.seed = 12;
+  options.parameter_overrides["h_b"] = 1.1;
+  const OccupancyGrid grid = voxelize(load_scene(dir + "/config/scenes/bridge.yaml", options));
+  const RobotModel& model = testing::robot("t_bar");
+  const RobotSdf& sdf = testing::robot_sdf("t_bar");
+  planner::KernelCollisionChecker checker(model);
+  checker.set_map(grid);
+  ASSERT_TRUE(checker.check_trajectory(*ws.trajectory).in_collision) << "the fixture must need the back-end";
+  ASSERT_FALSE(checker.check_trajectory_self(*ws.trajectory).in_collision);
+  SvsdfSafetySettings ss;
+  std::array<double, kNumLinks> inflation{};
+  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = checker.kernels().inflation_bound_m(j);
+  apply_recheck_margins(recheck_margins(inflation, grid.resolution_m(), sdf), ss);
+  std::vector<std::array<int, 2>> pairs;
+  for (int a = 0; a < kNumLinks; ++a)
+    for (int b = a + 1; b < kNumLinks; ++b)
+      if (checker.self_collision().pair_status(a, b) == planner::PairStatus::kChecked) pairs.push_back({a, b});
+
+  const midend::MidEnd mid(model);
+  BackendSettings bs;
+  bs.problem = mid.settings();
+  bs.max_iterations = 300;  // with a generous budget: the same run on any machine
+  const BackEnd backend(model, bs);
+
+  SvsdfSafetyTerm plain_term(model, sdf, ss);
+  const BackendResult plain = backend.solve(ws.path, *ws.trajectory, grid, plain_term, 120.0, &checker);
+  ASSERT_TRUE(plain.ok()) << plain.message;
+  EXPECT_EQ(plain.check, SafetyCheck::kInCollision);
+  EXPECT_TRUE(checker.check_trajectory_self(*plain.trajectory).in_collision) << "the arm should end on the base";
+  EXPECT_LT(plain.final_cost.safety, 20.0) << "the obstacles were cleared";
+
+  SvsdfSafetyTerm term(model, sdf, ss);
+  SelfCollisionTerm self(model, sdf, pairs, checker.self_collision().inflation_bound_m());
+  const BackendResult r = backend.solve(ws.path, *ws.trajectory, grid, term, 120.0, &checker, &self);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;
+  EXPECT_GT(r.self_collision_s, 0.0);
 }
 
 }  // namespace

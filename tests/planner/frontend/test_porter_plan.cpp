@@ -74,13 +74,13 @@ TEST_F(PorterPlan, SelfCollidingMidendTrajectoryIsSolvedAgainCloserToThePath) {
             0)
       << file("stderr.txt");
   const auto doc = nlohmann::json::parse(file("s.json"));
-  ASSERT_TRUE(doc["midend"]["self_collision_retry"].is_string()) << "the fixture needs a self-colliding first solve";
-  EXPECT_NE(doc["midend"]["self_collision_retry"].get<std::string>().find("0.35 -> 0.175 rad"), std::string::npos);
+  ASSERT_TRUE(doc["midend"]["retry"].is_string()) << "the fixture needs a self-colliding first solve";
+  EXPECT_NE(doc["midend"]["retry"].get<std::string>().find("0.35 -> 0.175 rad"), std::string::npos);
   EXPECT_TRUE(doc["midend"]["direct_execution"].get<bool>());
   EXPECT_TRUE(doc["final_check"]["collision_free"].get<bool>());
   // Without a self-collision there is no retry.
   EXPECT_EQ(run("--scene " + scene("empty") + " --stages mid --out " + (dir_ / "e.json").string()), 0);
-  EXPECT_TRUE(nlohmann::json::parse(file("e.json"))["midend"]["self_collision_retry"].is_null());
+  EXPECT_TRUE(nlohmann::json::parse(file("e.json"))["midend"]["retry"].is_null());
 }
 
 TEST_F(PorterPlan, InvalidStartIsExitCode4) {
