@@ -50,11 +50,7 @@ BackendRun run_backend(const PlanArgs& args, const RobotModel& model, const Occu
   if (const auto* kernels = dynamic_cast<const planner::KernelCollisionChecker*>(&recheck);
       kernels && sdf && args.self_collision_term) {
     const planner::SelfCollisionChecker& self = kernels->self_collision();
-    std::vector<std::array<int, 2>> pairs;
-    for (int a = 0; a < kNumLinks; ++a)
-      for (int b = a + 1; b < kNumLinks; ++b)
-        if (self.pair_status(a, b) == planner::PairStatus::kChecked) pairs.push_back({a, b});
-    self_term.emplace(model, *sdf, pairs, self.inflation_bound_m());
+    self_term.emplace(model, *sdf, self.checked_pairs(), self.inflation_bound_m());
     run.self_collision_term = true;
   }
 

@@ -21,15 +21,6 @@ namespace {
 
 constexpr char kPayload[] = "t_bar";
 
-/// The pairs porter-plan gives the term: those the kernel checker's self-collision check examines.
-std::vector<std::array<int, 2>> checked_pairs(const planner::SelfCollisionChecker& self) {
-  std::vector<std::array<int, 2>> pairs;
-  for (int a = 0; a < kNumLinks; ++a)
-    for (int b = a + 1; b < kNumLinks; ++b)
-      if (self.pair_status(a, b) == planner::PairStatus::kChecked) pairs.push_back({a, b});
-  return pairs;
-}
-
 /// The shoulder down at its limit with the elbow half folded: link 3 a few centimetres over the
 /// base (inside the derived thresholds, not in collision by the check).
 JointVector low_pose() {
@@ -72,7 +63,7 @@ struct TermCase {
   const RobotModel& model = testing::robot(kPayload);
   const RobotSdf& sdf = testing::robot_sdf(kPayload);
   planner::KernelCollisionChecker checker{model};
-  std::vector<std::array<int, 2>> pairs = checked_pairs(checker.self_collision());
+  std::vector<std::array<int, 2>> pairs = checker.self_collision().checked_pairs();  // as porter-plan
   SelfCollisionTerm make(bool relative) const {
     SelfCollisionTermSettings s;
     s.relative_to_warm_start = relative;

@@ -77,6 +77,17 @@ WarmStart load_fixture(const std::string& file) {
   return {std::move(path), std::move(t.trajectory)};
 }
 
+/// The safety term's settings as porter-plan builds them (planner/app/backend_stage.cpp): margins
+/// from the kernel re-check's inflation.
+SvsdfSafetySettings porter_plan_term_settings(const planner::KernelCollisionChecker& checker, const OccupancyGrid& grid,
+                                              const RobotSdf& sdf) {
+  SvsdfSafetySettings s;
+  std::array<double, kNumLinks> inflation{};
+  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = checker.kernels().inflation_bound_m(j);
+  apply_recheck_margins(recheck_margins(inflation, grid.resolution_m(), sdf), s);
+  return s;
+}
+
 struct TunnelCase {
   WarmStart ws;
   OccupancyGrid grid;
@@ -97,21 +108,26 @@ TunnelCase tunnel_case() {
   c.sdf = &testing::robot_sdf("t_bar");
   c.checker = std::make_unique<planner::KernelCollisionChecker>(*c.model);
   c.checker->set_map(c.grid);
-  // The term as porter-plan builds it (planner/app/backend_stage.cpp).
-  std::array<double, kNumLinks> inflation{};
-  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = c.checker->kernels().inflation_bound_m(j);
-  apply_recheck_margins(recheck_margins(inflation, c.grid.resolution_m(), *c.sdf), c.settings);
+  c.settings = porter_plan_term_settings(*c.checker, c.grid, *c.sdf);
   return c;
+}
+
+/// The back-end problem on the fixture's path with `safety` prepared at its warm start (null if
+/// the reference path cannot be built).
+std::unique_ptr<BackendProblem> problem_at_warm_start(const TunnelCase& tc, SvsdfSafetyTerm& safety) {
+  const midend::MidEnd mid(*tc.model);
+  midend::ReferenceBuild ref = midend::build_reference_path(tc.ws.path, mid.limits(), mid.settings());
+  if (ref.outcome != midend::ReferenceOutcome::kOk) return nullptr;
+  safety.prepare(tc.grid, *tc.ws.trajectory);
+  return std::make_unique<BackendProblem>(std::move(ref.path), mid.limits(), mid.settings(), safety);
 }
 
 TEST(BackendWarmStart, TunnelSeed1GradientIsADescentDirectionMatchingCentralDifferences) {
   const TunnelCase tc = tunnel_case();
   SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
-  const midend::MidEnd mid(*tc.model);
-  midend::ReferenceBuild ref = midend::build_reference_path(tc.ws.path, mid.limits(), mid.settings());
-  ASSERT_EQ(ref.outcome, midend::ReferenceOutcome::kOk) << ref.message;
-  safety.prepare(tc.grid, *tc.ws.trajectory);
-  BackendProblem problem(std::move(ref.path), mid.limits(), mid.settings(), safety);
+  std::unique_ptr<BackendProblem> owned = problem_at_warm_start(tc, safety);
+  ASSERT_TRUE(owned);
+  BackendProblem& problem = *owned;
   Eigen::VectorXd x;
   ASSERT_TRUE(problem.decision_from_trajectory(*tc.ws.trajectory, x));
   const int n = problem.num_variables();
@@ -206,11 +222,9 @@ TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
 TEST(BackendWarmStart, TunnelSeed1CutoffSkipsJsAndReturnsTheMidendTerms) {
   const TunnelCase tc = tunnel_case();
   SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
-  const midend::MidEnd mid(*tc.model);
-  midend::ReferenceBuild ref = midend::build_reference_path(tc.ws.path, mid.limits(), mid.settings());
-  ASSERT_EQ(ref.outcome, midend::ReferenceOutcome::kOk) << ref.message;
-  safety.prepare(tc.grid, *tc.ws.trajectory);
-  BackendProblem problem(std::move(ref.path), mid.limits(), mid.settings(), safety);
+  std::unique_ptr<BackendProblem> owned = problem_at_warm_start(tc, safety);
+  ASSERT_TRUE(owned);
+  BackendProblem& problem = *owned;
   Eigen::VectorXd x;
   ASSERT_TRUE(problem.decision_from_trajectory(*tc.ws.trajectory, x));
   const int n = problem.num_variables();
@@ -348,14 +362,7 @@ TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
   checker.set_map(grid);
   ASSERT_TRUE(checker.check_trajectory(*ws.trajectory).in_collision) << "the fixture must need the back-end";
   ASSERT_FALSE(checker.check_trajectory_self(*ws.trajectory).in_collision);
-  SvsdfSafetySettings ss;
-  std::array<double, kNumLinks> inflation{};
-  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = checker.kernels().inflation_bound_m(j);
-  apply_recheck_margins(recheck_margins(inflation, grid.resolution_m(), sdf), ss);
-  std::vector<std::array<int, 2>> pairs;
-  for (int a = 0; a < kNumLinks; ++a)
-    for (int b = a + 1; b < kNumLinks; ++b)
-      if (checker.self_collision().pair_status(a, b) == planner::PairStatus::kChecked) pairs.push_back({a, b});
+  const SvsdfSafetySettings ss = porter_plan_term_settings(checker, grid, sdf);
 
   const midend::MidEnd mid(model);
   BackendSettings bs;
@@ -371,7 +378,7 @@ TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
   EXPECT_LT(plain.final_cost.safety, 20.0) << "the obstacles were cleared";
 
   SvsdfSafetyTerm term(model, sdf, ss);
-  SelfCollisionTerm self(model, sdf, pairs, checker.self_collision().inflation_bound_m());
+  SelfCollisionTerm self(model, sdf, checker.self_collision().checked_pairs(), checker.self_collision().inflation_bound_m());
   const BackendResult r = backend.solve(ws.path, *ws.trajectory, grid, term, 120.0, &checker, &self);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;

@@ -74,6 +74,14 @@ class SelfCollisionChecker {
     return status_[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
   }
   int num_checked_pairs() const { return static_cast<int>(pairs_.size()); }
+  /// The pairs checked at run time (status kChecked) as {a, b}, a < b, in link order.
+  std::vector<std::array<int, 2>> checked_pairs() const {
+    std::vector<std::array<int, 2>> out;
+    for (int a = 0; a < kNumLinks; ++a)
+      for (int b = a + 1; b < kNumLinks; ++b)
+        if (pair_status(a, b) == PairStatus::kChecked) out.push_back({a, b});
+    return out;
+  }
   double inflation_bound_m() const { return 2.0 * static_cast<double>(threshold_m_); }
   /// Signed distance to link `link`'s exact geometry (link frame), as used by the check.
   const LinkDistance& link_distance(int link) const { return links_[static_cast<std::size_t>(link)]; }
