@@ -5,7 +5,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <thread>
 
 namespace porter::backend {
 
@@ -49,6 +48,7 @@ SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
   for (int w = 0; w < std::max(1, settings_.threads); ++w) {
     workers_.push_back(std::make_unique<Worker>(sdf, body_, settings_.kc));
   }
+  team_ = std::make_unique<TaskTeam>(static_cast<int>(workers_.size()));
   for (std::size_t j = 0; j < kNumLinks; ++j) {
     margin_[j] = settings_.link_margin_m[j] > 0.0 ? settings_.link_margin_m[j] : settings_.safety_margin_m;
     ground_margin_[j] =
@@ -122,12 +122,7 @@ void SvsdfSafetyTerm::find_candidates() {
   if (points_.empty()) return;
   // The (link, piece) pairs are split over the workers, each with its own masks; the masks are
   // OR-ed in worker order (the result does not depend on timing).
-  std::vector<std::thread> helpers;
-  for (std::size_t w = 1; w < workers_.size(); ++w) {
-    helpers.emplace_back([this, w] { mark_candidates(*workers_[w], static_cast<int>(w)); });
-  }
-  mark_candidates(*workers_[0], 0);
-  for (std::thread& t : helpers) t.join();
+  team_->run([this](int w) { mark_candidates(*workers_[static_cast<std::size_t>(w)], w); });
   for (const auto& w : workers_) {
     for (std::size_t idx = 0; idx < points_.size(); ++idx) {
       masks_[idx] |= w->masks[idx];
@@ -280,12 +275,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
   if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
   if (decisions_.size() != points_.size()) refresh_decisions();
   find_candidates();
-  std::vector<std::thread> helpers;
-  for (std::size_t w = 1; w < workers_.size(); ++w) {
-    helpers.emplace_back([this, w, &trajectory] { run(*workers_[w], static_cast<int>(w), trajectory); });
-  }
-  run(*workers_[0], 0, trajectory);
-  for (std::thread& t : helpers) t.join();
+  team_->run([this, &trajectory](int w) { run(*workers_[static_cast<std::size_t>(w)], w, trajectory); });
   record_next_ = false;
   SafetyStats total;
   total.obstacle_points = static_cast<int>(points_.size());

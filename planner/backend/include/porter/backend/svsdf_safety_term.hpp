@@ -34,8 +34,9 @@
 // Gradients: dJ_s/d(trajectory) = -3 w x^2 dD_j/d(trajectory), D_j's gradient from kc_svsdf.hpp
 // (t* held fixed, earlier durations shifted).
 //
-// Thread-safety: one instance per solve (workspaces inside); evaluate() runs `threads` threads
-// internally over the shared, read-only swept body and SDF.
+// Thread-safety: one instance per solve (workspaces inside); evaluate() runs its work on a team of
+// `threads` threads (task_team.hpp: the caller and threads - 1 helpers kept for the term's
+// lifetime) over the shared, read-only swept body and SDF.
 
 #include <array>
 #include <cstdint>
@@ -48,6 +49,7 @@
 #include "porter/backend/robot_sdf.hpp"
 #include "porter/backend/safety_term.hpp"
 #include "porter/backend/swept_body.hpp"
+#include "porter/backend/task_team.hpp"
 
 namespace porter::backend {
 
@@ -150,6 +152,7 @@ class SvsdfSafetyTerm : public SafetyTerm {
   SvsdfSafetySettings settings_;
   SweptBody body_;
   std::vector<std::unique_ptr<Worker>> workers_;
+  std::unique_ptr<TaskTeam> team_;  ///< one participant per worker (the caller is worker 0)
   std::array<double, kNumLinks> margin_{};
   std::array<double, kNumLinks> ground_margin_{};
   std::vector<ObstaclePoint> points_;
