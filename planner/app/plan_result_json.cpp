@@ -108,7 +108,7 @@ std::string plan_result_json(const PlanRunInfo& info, const frontend::FrontendRe
                              int exit_code, const std::string& error, const midend::MidendResult* mid,
                              const BackendRun* be, const FinalCheck* final_check) {
   json doc;
-  doc["format"] = "porter-plan-result/2";
+  doc["format"] = "porter-plan-result/3";
   doc["status"] = status;
   doc["exit_code"] = exit_code;
   doc["error"] = error;

@@ -49,7 +49,7 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   // Valid values parse (nothing collides in the empty scene: no back-end, exit 0).
   EXPECT_EQ(run(base + "--safety svsdf_per_link --out " + (dir_ / "e.json").string()), 0) << file("stderr.txt");
   const auto doc = nlohmann::json::parse(file("e.json"));
-  EXPECT_EQ(doc["format"], "porter-plan-result/2");
+  EXPECT_EQ(doc["format"], "porter-plan-result/3");
   EXPECT_EQ(doc["safety"], "svsdf_per_link");
   EXPECT_TRUE(doc["backend"].is_null());
   EXPECT_EQ(doc["final_check"]["stage"], "midend");

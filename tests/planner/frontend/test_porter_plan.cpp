@@ -127,7 +127,7 @@ TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
       << file("stdout.txt") << file("stderr.txt");
   EXPECT_EQ(file("stdout.txt").rfind("front-end: success", 0), 0u) << file("stdout.txt");
   const auto doc = nlohmann::json::parse(file("r.json"));
-  EXPECT_EQ(doc["format"], "porter-plan-result/2");
+  EXPECT_EQ(doc["format"], "porter-plan-result/3");
   EXPECT_EQ(doc["status"], "success");
   EXPECT_EQ(doc["scene"]["seed"], 7);
   EXPECT_EQ(doc["checker"], "kernels");

@@ -1,6 +1,6 @@
 #pragma once
 // Reads the parts of a porter-plan result file (planner/app/plan_result_json.*, format
-// "porter-plan-result/2") that the mid-end tools need: the front-end path ("path") and the
+// "porter-plan-result/2" and /3) that the mid-end tools need: the front-end path ("path") and the
 // final trajectory ("trajectory"), plus the recorded mid-end status and timings.
 //
 // Throws porter::LoadError naming the file and the key when the file is unreadable or a
