@@ -1,5 +1,6 @@
 // Per-link SDF grids: exact node values, the trilinear error bound against analytic distances on
-// primitives, gradients against finite differences, and the sign on the non-convex payloads.
+// primitives, gradients against finite differences, the sign on the non-convex payloads, and the
+// robot's fields built on two threads equal to the serial build.
 
 #include <gtest/gtest.h>
 
@@ -238,6 +239,27 @@ TEST(PayloadSdf, ConcaveRegionsAreOutside) {
     const Eigen::Vector3d p_L = mesh.T_parent_shape * probe.p_P;
     EXPECT_NEAR(shape_signed_distance(mesh, p_L), probe.expected, 2e-3) << probe.payload;
     EXPECT_NEAR(sdf.distance(p_L), probe.expected, 2e-3 + sdf.fine().error_bound_m()) << probe.payload;
+  }
+}
+
+}  // namespace
+}  // namespace porter::backend
+
+namespace porter::backend {
+namespace {
+
+TEST(RobotSdf, ParallelBuildEqualsTheSerialOne) {
+  const RobotModel& model = testing::robot("t_bar");
+  const RobotSdf serial = RobotSdf::build(model, {}, 1);
+  const RobotSdf parallel = RobotSdf::build(model, {}, 2);
+  for (int j = 0; j < kNumLinks; ++j) {
+    const LinkSdf& a = serial.link(j);
+    const LinkSdf& b = parallel.link(j);
+    ASSERT_EQ(a.empty(), b.empty()) << "link " << j;
+    if (a.empty()) continue;
+    EXPECT_EQ(a.fine().values(), b.fine().values()) << "link " << j;
+    EXPECT_EQ(a.coarse().values(), b.coarse().values()) << "link " << j;
+    EXPECT_EQ(a.resolution_m(), b.resolution_m()) << "link " << j;
   }
 }
 
