@@ -112,24 +112,30 @@ TunnelCase tunnel_case() {
   return c;
 }
 
-/// The back-end problem on the fixture's path with `safety` prepared at its warm start (null if
-/// the reference path cannot be built).
-std::unique_ptr<BackendProblem> problem_at_warm_start(const TunnelCase& tc, SvsdfSafetyTerm& safety) {
+/// The back-end problem on the fixture's path with `safety` prepared at its warm start, and the
+/// warm start's decision vector (problem null if either cannot be built).
+struct ProblemAtWarmStart {
+  std::unique_ptr<BackendProblem> problem;
+  Eigen::VectorXd x;
+};
+ProblemAtWarmStart problem_at_warm_start(const TunnelCase& tc, SvsdfSafetyTerm& safety) {
+  ProblemAtWarmStart out;
   const midend::MidEnd mid(*tc.model);
   midend::ReferenceBuild ref = midend::build_reference_path(tc.ws.path, mid.limits(), mid.settings());
-  if (ref.outcome != midend::ReferenceOutcome::kOk) return nullptr;
+  if (ref.outcome != midend::ReferenceOutcome::kOk) return out;
   safety.prepare(tc.grid, *tc.ws.trajectory);
-  return std::make_unique<BackendProblem>(std::move(ref.path), mid.limits(), mid.settings(), safety);
+  out.problem = std::make_unique<BackendProblem>(std::move(ref.path), mid.limits(), mid.settings(), safety);
+  if (!out.problem->decision_from_trajectory(*tc.ws.trajectory, out.x)) out.problem.reset();
+  return out;
 }
 
 TEST(BackendWarmStart, TunnelSeed1GradientIsADescentDirectionMatchingCentralDifferences) {
   const TunnelCase tc = tunnel_case();
   SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
-  std::unique_ptr<BackendProblem> owned = problem_at_warm_start(tc, safety);
-  ASSERT_TRUE(owned);
-  BackendProblem& problem = *owned;
-  Eigen::VectorXd x;
-  ASSERT_TRUE(problem.decision_from_trajectory(*tc.ws.trajectory, x));
+  ProblemAtWarmStart at = problem_at_warm_start(tc, safety);
+  ASSERT_TRUE(at.problem);
+  BackendProblem& problem = *at.problem;
+  const Eigen::VectorXd& x = at.x;
   const int n = problem.num_variables();
 
   Eigen::VectorXd g(n);
@@ -222,11 +228,10 @@ TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
 TEST(BackendWarmStart, TunnelSeed1CutoffSkipsJsAndReturnsTheMidendTerms) {
   const TunnelCase tc = tunnel_case();
   SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
-  std::unique_ptr<BackendProblem> owned = problem_at_warm_start(tc, safety);
-  ASSERT_TRUE(owned);
-  BackendProblem& problem = *owned;
-  Eigen::VectorXd x;
-  ASSERT_TRUE(problem.decision_from_trajectory(*tc.ws.trajectory, x));
+  ProblemAtWarmStart at = problem_at_warm_start(tc, safety);
+  ASSERT_TRUE(at.problem);
+  BackendProblem& problem = *at.problem;
+  const Eigen::VectorXd& x = at.x;
   const int n = problem.num_variables();
   Eigen::VectorXd g_full(n), g_cut(n), g_smooth(n);
   BackendCost full, cut, smooth;
