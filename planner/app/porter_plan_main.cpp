@@ -42,6 +42,87 @@ bool write_file(const std::string& path, const std::string& text) {
   return static_cast<bool>(f.flush());
 }
 
+using namespace porter;
+
+/// The mid-end stage: the solve, and the retry below when its trajectory collides.
+struct MidendStage {
+  std::optional<midend::MidendResult> mid;  ///< the reported solve (times summed over both)
+  planner::CollisionResult check;           ///< its kernel trajectory check
+  midend::MidendSettings settings;          ///< the settings it was solved with
+  /// The first solve when the retry replaced it but both collide: a second back-end warm start.
+  std::optional<midend::MidendResult> first;
+  midend::MidendSettings first_settings;
+  std::string retry;                        ///< why the mid-end was solved again ("" if not)
+};
+
+// Not in the paper: a mid-end trajectory in collision is solved once more with the arm residual
+// bound scaled by kRetryArmResidualScale, which keeps it closer to the front-end's arm path
+// (collision-free by the kernel motion check, self-collision included). The retry replaces the
+// first result when the first hits itself (the back-end's safety term sees obstacles only) or when
+// the retry is collision-free (then executed directly); otherwise both go to the back-end, which
+// starts from the one with the lower safety penalty (a retry that hits itself where the first did
+// not is dropped). Why: on the bridge ablation the first solve can cut through the deck (h_b 1.1 m
+// seeds 12 and 20: J_s 6 100 and 11 700 at the first solve, 4 200 and 1 200 at the retry; the
+// back-end then needs 178 and 91 ms, choice included, instead of more than its 300 ms). With
+// --stages mid only a self-collision is retried.
+MidendStage run_midend(const app::PlanArgs& args, const RobotModel& model, const planner::WholeBodyPath& path,
+                       const planner::CollisionChecker& kernels) {
+  MidendStage st;
+  const midend::MidEnd solver(model);
+  st.settings = solver.settings();
+  const double budget_s = args.midend_budget_ms * 1e-3;
+  // The direct-execution test: the kernel trajectory check, its result kept in *found.
+  auto kernel_validator = [&kernels](planner::CollisionResult* found) {
+    return [&kernels, found](const Trajectory& t) {
+      *found = kernels.check_trajectory(t);
+      return !found->in_collision;
+    };
+  };
+  st.mid = solver.solve(path, budget_s, kernel_validator(&st.check));
+  const auto* kernel_checker = dynamic_cast<const planner::KernelCollisionChecker*>(&kernels);
+  if (!st.mid->trajectory || !st.check.in_collision || !kernel_checker) return st;
+  const planner::CollisionResult self = kernel_checker->check_trajectory_self(*st.mid->trajectory);
+  if (!self.in_collision && args.stages != app::Stages::kFull) return st;
+
+  midend::MidendSettings tight = st.settings;
+  tight.residual_arm_bound_rad *= kRetryArmResidualScale;
+  planner::CollisionResult retry_check;
+  midend::MidendResult retry = midend::MidEnd(model, tight).solve(path, budget_s, kernel_validator(&retry_check));
+  std::ostringstream why;
+  if (self.in_collision) {
+    why << "self-collision (links " << self.link << "-" << self.other_link << ")";
+  } else {
+    why << "in collision (link " << st.check.link << ")";
+  }
+  why << ": arm residual bound " << st.settings.residual_arm_bound_rad << " -> " << tight.residual_arm_bound_rad << " rad";
+  st.retry = why.str();
+  if (!args.quiet) std::cout << "mid-end: " << st.retry << ", solved again" << std::endl;
+  if (!retry.trajectory) return st;
+  // A retry that hits itself where the first did not is no use to the back-end either.
+  const bool retry_self = retry_check.in_collision && !self.in_collision &&
+                          kernel_checker->check_trajectory_self(*retry.trajectory).in_collision;
+  // The stage's cost is both solves: times, iterations and evaluations add up.
+  midend::MidendResult& kept = retry_self ? *st.mid : retry;
+  const midend::MidendResult& other = retry_self ? retry : *st.mid;
+  kept.elapsed_s += other.elapsed_s;
+  kept.optimize_s += other.optimize_s;
+  kept.validate_s += other.validate_s;
+  kept.iterations += other.iterations;
+  kept.evaluations += other.evaluations;
+  if (retry_self) {
+    st.retry += " (the retry hits itself: not used)";
+    return st;
+  }
+  if (!self.in_collision && retry_check.in_collision) {  // both collide: a second warm start
+    st.first = std::move(st.mid);
+    st.first_settings = st.settings;
+  }
+  st.mid = std::move(retry);
+  st.check = retry_check;
+  st.settings = tight;
+  return st;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -132,73 +213,11 @@ int main(int argc, char** argv) {
   std::optional<app::BackendRun> back;
   std::optional<app::FinalCheck> final_check;
   if (code == kOk && args.stages != app::Stages::kFront) {
-    const midend::MidEnd midend_solver(model);
-    midend::MidendSettings mid_settings = midend_solver.settings();
-    // The direct-execution test: the kernel trajectory check, its result kept in *found.
-    auto kernel_validator = [&kernels](planner::CollisionResult* found) {
-      return [&kernels, found](const Trajectory& t) {
-        *found = kernels.check_trajectory(t);
-        return !found->in_collision;
-      };
-    };
-    planner::CollisionResult mid_check;
-    mid = midend_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&mid_check));
-    // Not in the paper: a mid-end trajectory in collision is solved once more with the arm
-    // residual bound scaled by kRetryArmResidualScale, which keeps it closer to the front-end's
-    // arm path (collision-free by the kernel motion check, self-collision included). The retry
-    // replaces the first result when the first hits itself (the back-end's safety term sees
-    // obstacles only) or when the retry is collision-free (then executed directly); otherwise both
-    // go to the back-end, which starts from the one with the lower safety penalty (a retry that
-    // hits itself where the first did not is dropped). Why: on the bridge ablation the first solve
-    // can cut through the deck (h_b 1.1 m seeds 12 and 20: J_s 6 100 and 11 700 at the first
-    // solve, 4 200 and 1 200 at the retry; the back-end then needs 178 and 91 ms, choice included,
-    // instead of more than its 300 ms). With --stages mid only a self-collision is retried.
-    std::optional<midend::MidendResult> first;
-    midend::MidendSettings first_settings = mid_settings;
-    const auto* kernel_checker = dynamic_cast<const planner::KernelCollisionChecker*>(&kernels);
-    const planner::CollisionResult self = mid->trajectory && mid_check.in_collision && kernel_checker
-                                              ? kernel_checker->check_trajectory_self(*mid->trajectory)
-                                              : planner::CollisionResult{};
-    if (mid->trajectory && mid_check.in_collision && kernel_checker &&
-        (self.in_collision || args.stages == app::Stages::kFull)) {
-      midend::MidendSettings tight = mid_settings;
-      tight.residual_arm_bound_rad *= kRetryArmResidualScale;
-      const midend::MidEnd tight_solver(model, tight);
-      planner::CollisionResult retry_check;
-      midend::MidendResult retry =
-          tight_solver.solve(result.path, args.midend_budget_ms * 1e-3, kernel_validator(&retry_check));
-      std::ostringstream why;
-      if (self.in_collision) {
-        why << "self-collision (links " << self.link << "-" << self.other_link << ")";
-      } else {
-        why << "in collision (link " << mid_check.link << ")";
-      }
-      why << ": arm residual bound " << mid_settings.residual_arm_bound_rad << " -> " << tight.residual_arm_bound_rad
-          << " rad";
-      info.midend_retry = why.str();
-      if (!args.quiet) std::cout << "mid-end: " << info.midend_retry << ", solved again" << std::endl;
-      if (retry.trajectory) {
-        // A retry that hits itself where the first did not is no use to the back-end either.
-        const bool retry_self = retry_check.in_collision && !self.in_collision &&
-                                kernel_checker->check_trajectory_self(*retry.trajectory).in_collision;
-        // The stage's cost is both solves: times, iterations and evaluations add up.
-        midend::MidendResult& kept = retry_self ? *mid : retry;
-        const midend::MidendResult& other = retry_self ? retry : *mid;
-        kept.elapsed_s += other.elapsed_s;
-        kept.optimize_s += other.optimize_s;
-        kept.validate_s += other.validate_s;
-        kept.iterations += other.iterations;
-        kept.evaluations += other.evaluations;
-        if (retry_self) {
-          info.midend_retry += " (the retry hits itself: not used)";
-        } else {
-          if (!self.in_collision && retry_check.in_collision) first = std::move(mid);  // a second warm start
-          mid = std::move(retry);
-          mid_check = retry_check;
-          mid_settings = tight;
-        }
-      }
-    }
+    MidendStage stage = run_midend(args, model, result.path, kernels);
+    mid = std::move(stage.mid);
+    const planner::CollisionResult& mid_check = stage.check;
+    const midend::MidendSettings& mid_settings = stage.settings;
+    info.midend_retry = stage.retry;
     info.midend_arm_residual_bound_rad = mid_settings.residual_arm_bound_rad;
     status = midend::to_string(mid->status);
     if (!args.quiet || !mid->trajectory) std::cout << app::midend_summary(*mid) << std::endl;
@@ -212,7 +231,8 @@ int main(int argc, char** argv) {
     // Back-end (paper §VI): only when the mid-end's trajectory collides.
     if (mid->trajectory && mid->execution == midend::Execution::kNeedsBackend && args.stages == app::Stages::kFull) {
       std::vector<app::BackendWarmStart> warm_starts{{&*mid->trajectory, mid_settings}};
-      if (first && first->trajectory) warm_starts.push_back({&*first->trajectory, first_settings});
+      if (stage.first && stage.first->trajectory)
+        warm_starts.push_back({&*stage.first->trajectory, stage.first_settings});
       back = app::run_backend(args, model, grid, result.path, warm_starts, kernels);
       const backend::BackendResult& r = back->result;
       status = backend::to_string(r.status);

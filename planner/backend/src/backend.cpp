@@ -72,6 +72,17 @@ struct SolveContext {
 /// evaluation costs milliseconds and a line search may need several).
 constexpr double kExpiredCost = 1e300;
 
+/// One evaluation of the problem, counted in ctx: evaluations, J_s skips and the terms' times.
+double counted_evaluate(SolveContext& ctx, const double* x, double* g, BackendCost* cost,
+                        double cutoff = std::numeric_limits<double>::infinity()) {
+  ++ctx.evaluations;
+  const double f = ctx.problem->evaluate(x, g, cost, cutoff);
+  if (cost->safety_skipped) ++ctx.skipped;
+  ctx.safety_s += cost->safety_stats.time_s;
+  ctx.self_s += cost->self_stats.time_s;
+  return f;
+}
+
 lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloatval_t* g,
                             const int n, const lbfgsfloatval_t /*step*/) {
   auto* ctx = static_cast<SolveContext*>(instance);
@@ -89,15 +100,11 @@ lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloat
     ctx->cost = ctx->cached_cost;
     for (int k = 0; k < n; ++k) g[k] = ctx->cached_g[k] * ctx->scale;
   } else {
-    ++ctx->evaluations;
-    f = ctx->problem->evaluate(ctx->x.data(), g, &ctx->cost,
-                               ctx->use_cutoff ? ctx->current_f : std::numeric_limits<double>::infinity());
-    if (ctx->cost.safety_skipped) ++ctx->skipped;
+    f = counted_evaluate(*ctx, ctx->x.data(), g, &ctx->cost,
+                         ctx->use_cutoff ? ctx->current_f : std::numeric_limits<double>::infinity());
     if (g) {
       for (int k = 0; k < n; ++k) g[k] *= ctx->scale;
     }
-    ctx->safety_s += ctx->cost.safety_stats.time_s;
-    ctx->self_s += ctx->cost.self_stats.time_s;
   }
   ctx->last_safety = ctx->cost.safety;
   if (!std::isfinite(ctx->current_f)) ctx->current_f = f;  // the round's starting point
@@ -168,19 +175,13 @@ void first_step_scale(SolveContext& ctx, double* y, int n, double max_scale) {
   Eigen::VectorXd x0(n), g0(n), x1(n), g1(n);
   for (int k = 0; k < n; ++k) x0[k] = ctx.scale * y[k];
   BackendCost c0, c1;
-  ++ctx.evaluations;
-  const double f0 = ctx.problem->evaluate(x0.data(), g0.data(), &c0);
-  ctx.safety_s += c0.safety_stats.time_s;
-  ctx.self_s += c0.self_stats.time_s;
+  const double f0 = counted_evaluate(ctx, x0.data(), g0.data(), &c0);
   double new_scale = max_scale;
   const double gn = g0.norm();
   if (std::isfinite(f0) && gn > 0.0) {
     x1 = x0 - (kProbeStep / gn) * g0;
-    ++ctx.evaluations;
     ++ctx.probes;
-    const double f1 = ctx.problem->evaluate(x1.data(), g1.data(), &c1);
-    ctx.safety_s += c1.safety_stats.time_s;
-    ctx.self_s += c1.self_stats.time_s;
+    const double f1 = counted_evaluate(ctx, x1.data(), g1.data(), &c1);
     const double c = std::isfinite(f1) ? -(g1 - g0).dot(g0) / (gn * kProbeStep) : 0.0;
     if (c > 0.0) new_scale = std::clamp(gn / c, kMinScale, max_scale);
   }
