@@ -43,7 +43,7 @@ void KernelCollisionChecker::set_map(const OccupancyGrid& occupancy_W) {
   last_update_ = map_.set_map(occupancy_W);
 }
 
-bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
+PORTER_KERNEL_CLONES bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
   const std::array<int, 4>& fp = kernels_.base_footprint();
   if (map_.base_columns_set(bx + fp[0], by + fp[2], bx + fp[1], by + fp[3]) == 0) return false;
   const int g = map_.ground_layer();
@@ -61,38 +61,65 @@ bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
   return false;
 }
 
-bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B, const Pose4f& T_B_J) const {
-  const float units_per_voxel = 4.f;  // clearance units are h / 4; T_V_J maps metres to voxels
-  const float scale = static_cast<float>(units_per_voxel / kernels_.resolution_m());
-  const MapKernel& map = map_;
-  const PointTreePool& pool = kernels_.link_pool(link);
-  const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
-  // A sphere of kernel points is clear when every point is farther than d_j from the core set:
-  // the cell's clearance exceeds its radius + d_j (in clearance units, with the same slack).
-  const float reach_units = kernel_reach_units_[static_cast<std::size_t>(link)];
-  if (pool.tree_begin(sample) == pool.tree_end(sample)) return false;
-  // The root sphere first, without composing the full transform (most links are clear).
-  const PointTreeNode& root = pool.nodes()[pool.tree_begin(sample)];
-  const v4f c_B = T_B_J.apply(root.cx, root.cy, root.cz);
-  const v4f c_V = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
-  if (root.radius_m * scale + reach_units < static_cast<float>(map.clearance_units(c_V[0], c_V[1], c_V[2])))
-    return false;
-  const Pose4f T_V_J = T_V_B * T_B_J;
-  return point_tree_any(
-      pool, sample,
-      [&](const PointTreeNode& n) {
-        const v4f u = T_V_J.apply(n.cx, n.cy, n.cz);
-        return n.radius_m * scale + reach_units < static_cast<float>(map.clearance_units(u[0], u[1], u[2]));
-      },
-      [&](float x, float y, float z) {
-        const v4f u = T_V_J.apply(x, y, z);
-        return map.arm_bit(static_cast<int>(u[0]), static_cast<int>(u[1]), static_cast<int>(u[2])) &&
-               map.arm_near(u[0], u[1], u[2], reach2);
-      },
-      true);
+// Clearance units are h / 4: a sphere of kernel points is clear when every point is farther
+// than d_j from the core set, i.e. when its cell's clearance exceeds its radius + d_j (in
+// clearance units, with the same float slack as d_j). T_V_J maps metres to padded voxels.
+PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std::array<int, kNumLinks>& sample,
+                                                                      const Pose4f& T_V_B,
+                                                                      const ArmPoses& poses) const {
+  const float scale = static_cast<float>(4.0 / kernels_.resolution_m());
+  // Lane j = link j's root sphere; lane 0 and empty kernels get a radius no clearance fails.
+  alignas(32) float x[8] = {}, y[8] = {}, z[8] = {}, need[8];
+  need[0] = -1e30f;
+  for (int link = 1; link < kNumLinks; ++link) {
+    const auto l = static_cast<std::size_t>(link);
+    const WideTreeRoot& root = kernels_.link_pool(link).root(sample[l]);
+    if (root.num_points == 0) {
+      need[l] = -1e30f;
+      continue;
+    }
+    const v4f c_B = poses.T_B_J[l].apply(root.cx, root.cy, root.cz);
+    const v4f c_V = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
+    x[l] = c_V[0];
+    y[l] = c_V[1];
+    z[l] = c_V[2];
+    need[l] = root.radius_m * scale + kernel_reach_units_[l];
+  }
+  const v8f clearance = map_.clearance_units8(v8f_load(x), v8f_load(y), v8f_load(z));
+  return ~lane_mask(v8f_load(need) < clearance) & 0xfeu;
 }
 
-CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration& config, bool environment,
+PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
+                                                           const Pose4f& T_B_J) const {
+  const float scale = static_cast<float>(4.0 / kernels_.resolution_m());
+  const MapKernel& map = map_;
+  const WidePointTreePool& pool = kernels_.link_pool(link);
+  const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
+  const float reach_units = kernel_reach_units_[static_cast<std::size_t>(link)];
+  const Pose8f T_V_J = Pose8f::from(T_V_B * T_B_J);
+  const v8f scale8 = v8f_splat(scale), reach8 = v8f_splat(reach_units);
+  return wide_tree_any(
+      pool, sample,
+      [&](const WideNode& n) PORTER_SIMD_LAMBDA {
+        v8f ux, uy, uz;
+        T_V_J.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &ux, &uy, &uz);
+        // Open: not proven clear (the negated test, so NaN stays open).
+        return ~lane_mask(v8f_load(n.r) * scale8 + reach8 < map.clearance_units8(ux, uy, uz));
+      },
+      [&](const PointBlock& b) PORTER_SIMD_LAMBDA {
+        v8f ux, uy, uz;
+        T_V_J.apply(v8f_load(b.x), v8f_load(b.y), v8f_load(b.z), &ux, &uy, &uz);
+        std::uint32_t m = map.arm_bits8(ux, uy, uz);
+        while (m != 0) {
+          const int i = __builtin_ctz(m);
+          m &= m - 1;
+          if (map.arm_near(ux[i], uy[i], uz[i], reach2)) return true;
+        }
+        return false;
+      });
+}
+
+PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration& config, bool environment,
                                                        bool self) const {
   if (!map_.has_map() && environment) return hit(0);
   std::array<int, kNumLinks> sample{};  // nearest kernel sample per arm joint (index = link)
@@ -120,10 +147,12 @@ CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration&
     T_V_B.c2 = v4f{0.f, 0.f, static_cast<float>(inv_h), 0.f};
     T_V_B.t = v4f{static_cast<float>(ux), static_cast<float>(uy),
                   static_cast<float>(-map_.padded_origin_W().z() * inv_h), 0.f};
-    for (int link : kArmOrder) {
-      const auto l = static_cast<std::size_t>(link);
-      if (link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
-    }
+    const std::uint32_t near = links_near(sample, T_V_B, poses);
+    if (near != 0)
+      for (int link : kArmOrder) {
+        const auto l = static_cast<std::size_t>(link);
+        if (((near >> link) & 1u) && link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
+      }
   }
   if (self && settings_.check_self_collision) return self_.check(poses);
   return CollisionResult{};

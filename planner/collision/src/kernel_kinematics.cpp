@@ -1,4 +1,5 @@
 #include "porter/planner/collision/kernel_kinematics.hpp"
+#include "porter/planner/collision/simd8.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -68,7 +69,7 @@ KernelKinematics::KernelKinematics(const RobotModel& model) : T_L6_EE_(model.T_L
   }
 }
 
-void KernelKinematics::compute(const JointVector& q_rad, ArmPoses& poses) const {
+PORTER_KERNEL_CLONES void KernelKinematics::compute(const JointVector& q_rad, ArmPoses& poses) const {
   poses.T_B_J[0] = Pose4f::identity();
   poses.T_B_L[0] = Pose4f::identity();
   for (int j = 1; j <= kNumArmJoints; ++j) {

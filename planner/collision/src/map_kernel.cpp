@@ -35,6 +35,9 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
   words_per_row_ = (dims_.x() + 63) / 64 + 1;
   row_bits_ = 64 * words_per_row_;
   const auto n_words = static_cast<std::size_t>(words_per_row_ * dims_.y() * static_cast<std::int64_t>(dims_.z()));
+  // arm_bits8() and the clearance lookups index with 32-bit lanes (16 GiB of bits per set).
+  if (n_words > static_cast<std::size_t>(INT32_MAX))
+    throw std::invalid_argument("MapKernel: padded map too large (" + std::to_string(n_words) + " words per set)");
   occ_.assign(n_words, 0);
   base_.assign(n_words, 0);
   arm_.assign(n_words, 0);

@@ -47,7 +47,7 @@ std::vector<Eigen::Vector3f> lattice_points_within(const LinkDistance& link, con
 }
 
 RobotKernels::RobotKernels(const RobotModel& model, const RobotKernelSettings& settings)
-    : res_(settings.resolution_m), leaf_size_(std::max(1, settings.leaf_size)) {
+    : res_(settings.resolution_m) {
   if (!(res_ > 0.0) || !std::isfinite(res_)) throw std::invalid_argument("RobotKernels: resolution_m must be > 0");
   if (model.links[0].shapes.empty()) throw std::invalid_argument("RobotKernels: the base link has no geometry");
   if (settings.lattice_subdivision < 1) throw std::invalid_argument("RobotKernels: lattice_subdivision must be >= 1");
@@ -186,7 +186,7 @@ void RobotKernels::build_base(const RobotModel& model, int n_yaw) {
 void RobotKernels::build_link(const RobotModel& model, int link, double target_error_m) {
   const auto j = static_cast<std::size_t>(link);
   const LinkDistance geometry(model.links[j].shapes);
-  PointTreePool& pool = pools_[j];
+  WidePointTreePool& pool = pools_[j];
   const double base_radius = 0.5 * kSqrt3 * spacing_;
   if (link == kEndEffectorLink) {
     num_samples_[j] = 1;
@@ -194,7 +194,7 @@ void RobotKernels::build_link(const RobotModel& model, int link, double target_e
     kernel_radius_[j] = base_radius;
     Eigen::AlignedBox3d b = geometry.bounds();
     if (!b.isEmpty()) b = Eigen::AlignedBox3d(b.min().array() - base_radius, b.max().array() + base_radius);
-    pool.add_tree(lattice_points_within(geometry, Eigen::Isometry3d::Identity(), spacing_, base_radius, b), leaf_size_);
+    pool.add_tree(lattice_points_within(geometry, Eigen::Isometry3d::Identity(), spacing_, base_radius, b));
     return;
   }
   const ArmJoint& joint = model.joints[j - 1];
@@ -215,7 +215,7 @@ void RobotKernels::build_link(const RobotModel& model, int link, double target_e
     b.setEmpty();
     for (const auto& s : model.links[j].shapes) b.extend(shape_bounds(s, T_J_L));
     if (!b.isEmpty()) b = Eigen::AlignedBox3d(b.min().array() - kernel_radius_[j], b.max().array() + kernel_radius_[j]);
-    pool.add_tree(lattice_points_within(geometry, T_J_L.inverse(), spacing_, kernel_radius_[j], b), leaf_size_);
+    pool.add_tree(lattice_points_within(geometry, T_J_L.inverse(), spacing_, kernel_radius_[j], b));
   }
 }
 

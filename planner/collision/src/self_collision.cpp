@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 #include "porter/planner/collision/robot_kernels.hpp"
@@ -68,59 +69,95 @@ SelfCollisionChecker::SelfCollisionChecker(const RobotModel& model, const SelfCo
   });
   for (int k = 0; k < kNumLinks; ++k) {
     const auto i = static_cast<std::size_t>(k);
-    samples_.add_tree(need_samples[i] ? grids_[i].occupied_centres() : std::vector<Eigen::Vector3f>{}, 8);
+    samples_.add_tree(need_samples[i] ? grids_[i].occupied_centres() : std::vector<Eigen::Vector3f>{});
   }
-  for (const auto& pr : pairs_) {
+  static_assert(kNumLinks == 8, "check() holds one link per lane");
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    if (p % 8 == 0) {
+      PairLanes lanes;
+      for (int i = 0; i < 8; ++i) {
+        lanes.a[i] = lanes.b[i] = 0;
+        lanes.reach2[i] = -1.f;
+      }
+      pair_lanes_.push_back(lanes);
+    }
+    const auto& pr = pairs_[p];
     const float reach = sphere_radius_[static_cast<std::size_t>(pr[0])] +
                         sphere_radius_[static_cast<std::size_t>(pr[1])] + threshold_m_;
-    pair_reach2_.push_back(reach * reach);
+    PairLanes& lanes = pair_lanes_.back();
+    lanes.a[p % 8] = pr[0];
+    lanes.b[p % 8] = pr[1];
+    lanes.reach2[p % 8] = reach * reach;
   }
 }
 
-CollisionResult SelfCollisionChecker::check(const ArmPoses& poses) const {
+PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses& poses) const {
   CollisionResult result;
   const float thr = threshold_m_;
-  std::array<v4f, kNumLinks> centre_B;
-  for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k)
-    centre_B[k] = poses.T_B_L[k].apply(sphere_centre_[k].x(), sphere_centre_[k].y(), sphere_centre_[k].z());
+  // Bounding spheres of the links in the base frame, lane k = link k.
+  alignas(32) float cx[8], cy[8], cz[8];
+  for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k) {
+    const v4f c = poses.T_B_L[k].apply(sphere_centre_[k].x(), sphere_centre_[k].y(), sphere_centre_[k].z());
+    cx[k] = c[0];
+    cy[k] = c[1];
+    cz[k] = c[2];
+  }
+  const v8f Cx = v8f_load(cx), Cy = v8f_load(cy), Cz = v8f_load(cz);
   std::array<Pose4f, kNumLinks> T_L_B;  // inverses, computed when first needed
   std::array<bool, kNumLinks> have_inverse{};
   have_inverse[0] = true;  // T_B_L[0] is the identity
-  for (std::size_t p = 0; p < pairs_.size(); ++p) {
-    const auto& pr = pairs_[p];
-    const auto a = static_cast<std::size_t>(pr[0]), b = static_cast<std::size_t>(pr[1]);
-    const v4f d = centre_B[a] - centre_B[b];
-    if (d[0] * d[0] + d[1] * d[1] + d[2] * d[2] > pair_reach2_[p]) continue;
-    const PointTreePool& pool = samples_;
-    const PointTreeNode& root = pool.nodes()[pool.tree_begin(static_cast<int>(b))];
-    if (!have_inverse[a]) {
-      T_L_B[a] = poses.T_B_L[a].inverse();
-      have_inverse[a] = true;
-    }
-    // The root sphere first, without composing the full transform.
-    const v4f r_B = poses.T_B_L[b].apply(root.cx, root.cy, root.cz);
-    const v4f r_a = a == 0 ? r_B : T_L_B[a].apply(r_B[0], r_B[1], r_B[2]);
-    const DistanceGrid& grid = grids_[a];
-    if (grid.clear_of(Eigen::Vector3f(r_a[0], r_a[1], r_a[2]), root.radius_m + thr)) continue;
-    const Pose4f T_a_b = a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b];
-    const LinkDistance& la = links_[a];
-    const bool hit = point_tree_any(
-        samples_, static_cast<int>(b),
-        [&](const PointTreeNode& n) {
-          const v4f c = T_a_b.apply(n.cx, n.cy, n.cz);
-          return grid.clear_of(Eigen::Vector3f(c[0], c[1], c[2]), n.radius_m + thr);
-        },
-        [&](float x, float y, float z) {
-          const v4f q = T_a_b.apply(x, y, z);
-          const Eigen::Vector3f p(q[0], q[1], q[2]);
-          return !grid.clear_of(p, thr) && la.within(p, thr);
-        },
-        true);
-    if (hit) {
-      result.in_collision = true;
-      result.link = std::min(pr[0], pr[1]);
-      result.other_link = std::max(pr[0], pr[1]);
-      return result;
+  // Pairs whose bounding spheres are within the threshold, eight pairs per test, in pair order.
+  for (std::size_t chunk = 0; chunk < pair_lanes_.size(); ++chunk) {
+    const PairLanes& lanes = pair_lanes_[chunk];
+    v8i ia, ib;
+    std::memcpy(&ia, lanes.a, sizeof(ia));
+    std::memcpy(&ib, lanes.b, sizeof(ib));
+    const v8f dx = __builtin_shuffle(Cx, ia) - __builtin_shuffle(Cx, ib);
+    const v8f dy = __builtin_shuffle(Cy, ia) - __builtin_shuffle(Cy, ib);
+    const v8f dz = __builtin_shuffle(Cz, ia) - __builtin_shuffle(Cz, ib);
+    std::uint32_t close = ~lane_mask(dx * dx + dy * dy + dz * dz > v8f_load(lanes.reach2)) & 0xffu;
+    while (close != 0) {
+      const std::size_t p = 8 * chunk + static_cast<std::size_t>(__builtin_ctz(close));
+      close &= close - 1;
+      const auto& pr = pairs_[p];
+      const auto a = static_cast<std::size_t>(pr[0]), b = static_cast<std::size_t>(pr[1]);
+      const WideTreeRoot& root = samples_.root(static_cast<int>(b));
+      if (!have_inverse[a]) {
+        T_L_B[a] = poses.T_B_L[a].inverse();
+        have_inverse[a] = true;
+      }
+      // The root sphere first, without composing the full transform.
+      const v4f r_B = poses.T_B_L[b].apply(root.cx, root.cy, root.cz);
+      const v4f r_a = a == 0 ? r_B : T_L_B[a].apply(r_B[0], r_B[1], r_B[2]);
+      const DistanceGrid& grid = grids_[a];
+      if (grid.clear_of(Eigen::Vector3f(r_a[0], r_a[1], r_a[2]), root.radius_m + thr)) continue;
+      const Pose8f T_a_b = Pose8f::from(a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b]);
+      const LinkDistance& la = links_[a];
+      const v8f thr8 = v8f_splat(thr);
+      const bool hit = wide_tree_any(
+          samples_, static_cast<int>(b),
+          [&](const WideNode& n) PORTER_SIMD_LAMBDA {
+            v8f x, y, z;
+            T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
+            return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
+          },
+          [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
+            v8f x, y, z;
+            T_a_b.apply(v8f_load(blk.x), v8f_load(blk.y), v8f_load(blk.z), &x, &y, &z);
+            std::uint32_t m = ~grid.clear_of8(x, y, z, thr8) & 0xffu;
+            while (m != 0) {
+              const int i = __builtin_ctz(m);
+              m &= m - 1;
+              if (la.within(Eigen::Vector3f(x[i], y[i], z[i]), thr)) return true;
+            }
+            return false;
+          });
+      if (hit) {
+        result.in_collision = true;
+        result.link = std::min(pr[0], pr[1]);
+        result.other_link = std::max(pr[0], pr[1]);
+        return result;
+      }
     }
   }
   return result;

@@ -110,6 +110,9 @@ class KernelCollisionChecker final : public CollisionChecker {
   /// Base origin in padded voxel coordinates; false when it is outside the grid horizontally or
   /// a value is NaN.
   bool base_voxel(const BasePose& base, double* ux, double* uy) const;
+  /// Bit j (1..7) set when link j's kernel sample may hit: its root sphere is not proven clear.
+  std::uint32_t links_near(const std::array<int, kNumLinks>& sample, const Pose4f& T_V_B, const ArmPoses& poses) const;
+  /// Walks link j's kernel sample below its root sphere; true on a hit.
   bool link_hit(int link, int sample, const Pose4f& T_V_B, const Pose4f& T_B_J) const;
   CollisionResult check_prepared(const RobotConfiguration& config, bool environment, bool self) const;
 

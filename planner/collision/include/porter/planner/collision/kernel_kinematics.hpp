@@ -12,6 +12,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
+#include <cstring>
 
 #include "porter/core/robot_model.hpp"
 #include "porter/core/types.hpp"
@@ -44,10 +46,17 @@ inline void fast_sincos(double x, float* s, float* c) {
   const float sr = r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
   const float cr =
       1.f - 0.5f * r2 + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
-  const int q = static_cast<int>(static_cast<long long>(k) & 3);
-  const float sq = (q & 1) ? cr : sr, cq = (q & 1) ? sr : cr;
-  *s = (q & 2) ? -sq : sq;
-  *c = ((q + 1) & 2) ? -cq : cq;
+  // Quadrant q: swap sin and cos for odd q, negate sin for q = 2, 3 and cos for q = 1, 2, with
+  // bit masks rather than branches (the quadrant of a random joint angle is unpredictable).
+  const auto q = static_cast<std::uint32_t>(static_cast<long long>(k) & 3);
+  std::uint32_t sb, cb;
+  std::memcpy(&sb, &sr, 4);
+  std::memcpy(&cb, &cr, 4);
+  const std::uint32_t swap = 0u - (q & 1u);
+  const std::uint32_t sq = (sb & ~swap) | (cb & swap), cq = (cb & ~swap) | (sb & swap);
+  const std::uint32_t so = sq ^ ((q & 2u) << 30), co = cq ^ (((q + 1u) & 2u) << 30);
+  std::memcpy(s, &so, 4);
+  std::memcpy(c, &co, 4);
 }
 
 /// Link poses in the base frame B (float32): the kernel frames T_B_J (index 1..7; [0] = B)

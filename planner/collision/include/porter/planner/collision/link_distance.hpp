@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "porter/core/geometry.hpp"
+#include "porter/planner/collision/simd8.hpp"
 
 namespace porter::planner {
 
@@ -92,6 +93,29 @@ class DistanceGrid {
     if (need < 0.f) return true;
     const Eigen::Vector3f d = (u.cwiseMax(0.f).cwiseMin(extent_) - u) * voxel_;
     return d.squaredNorm() > need * need;
+  }
+
+  /// clear_of() of eight points and distances, as a lane mask (bit i: point i is clear).
+  PORTER_SIMD_INLINE std::uint32_t clear_of8(const v8f& px, const v8f& py, const v8f& pz, const v8f& distance_m) const {
+    const v8f ux = (px - v8f_splat(origin_.x())) * v8f_splat(inv_voxel_);
+    const v8f uy = (py - v8f_splat(origin_.y())) * v8f_splat(inv_voxel_);
+    const v8f uz = (pz - v8f_splat(origin_.z())) * v8f_splat(inv_voxel_);
+    const v8f one = v8f_splat(1.f), zero = v8f_splat(0.f);
+    const v8i ix = v8_trunc(ux + one) - 1, iy = v8_trunc(uy + one) - 1, iz = v8_trunc(uz + one) - 1;
+    const v8i nx = v8i_splat(dims_.x()), ny = v8i_splat(dims_.y()), nz = v8i_splat(dims_.z());
+    const v8i inside = (ix >= 0) & (ix < nx) & (iy >= 0) & (iy < ny) & (iz >= 0) & (iz < nz);
+    const v8i index = (ix + nx * (iy + ny * iz)) & inside;  // outside lanes read voxel 0, then drop it
+    v8i value;
+    for (int i = 0; i < 8; ++i) value[i] = values_[static_cast<std::uint32_t>(index[i])];
+    const v8i clear_inside = v8_float(value & inside) * v8f_splat(unit_) > distance_m;
+    // Outside the box: the distance to the box plus the margin.
+    const v8f need = distance_m - v8f_splat(margin_);
+    const v8f ex = v8f_splat(extent_.x()), ey = v8f_splat(extent_.y()), ez = v8f_splat(extent_.z());
+    const v8f cx = ux > zero ? ux : zero, cy = uy > zero ? uy : zero, cz = uz > zero ? uz : zero;
+    const v8f s = v8f_splat(voxel_);
+    const v8f dx = ((cx < ex ? cx : ex) - ux) * s, dy = ((cy < ey ? cy : ey) - uy) * s, dz = ((cz < ez ? cz : ez) - uz) * s;
+    const v8i clear_outside = (need < zero) | (dx * dx + dy * dy + dz * dz > need * need);
+    return lane_mask((inside & clear_inside) | (~inside & clear_outside));
   }
 
   std::size_t bytes() const { return values_.size(); }

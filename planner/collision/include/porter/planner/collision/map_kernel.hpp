@@ -44,6 +44,7 @@
 #include <vector>
 
 #include "porter/core/occupancy_grid.hpp"
+#include "porter/planner/collision/simd8.hpp"
 
 namespace porter::planner {
 
@@ -143,6 +144,31 @@ class MapKernel {
         static_cast<unsigned>(cz) >= static_cast<unsigned>(cells_.z()))
       return 0;
     return clearance_[static_cast<std::size_t>(cx + cells_.x() * (cy + cells_.y() * cz))];
+  }
+
+  /// clearance_units() of eight points, as floats.
+  PORTER_SIMD_INLINE v8f clearance_units8(const v8f& ux, const v8f& uy, const v8f& uz) const {
+    const v8f off = v8f_splat(cell_offset_), half = v8f_splat(0.5f), one = v8f_splat(1.f);
+    const v8i cx = v8_trunc((ux - off) * half + one) - 1;
+    const v8i cy = v8_trunc((uy - off) * half + one) - 1;
+    const v8i cz = v8_trunc((uz - off) * half + one) - 1;
+    const v8i nx = v8i_splat(cells_.x()), ny = v8i_splat(cells_.y()), nz = v8i_splat(cells_.z());
+    const v8i inside = (cx >= 0) & (cx < nx) & (cy >= 0) & (cy < ny) & (cz >= 0) & (cz < nz);
+    const v8i index = (cx + nx * (cy + ny * cz)) & inside;  // outside lanes read cell 0, then drop it
+    v8i value;
+    for (int i = 0; i < 8; ++i) value[i] = clearance_[static_cast<std::uint32_t>(index[i])];
+    return v8_float(value & inside);
+  }
+  /// arm_bit() of eight points at padded voxel coordinates u (truncated to their voxels), as a
+  /// lane mask. Precondition: every voxel inside the padded array.
+  PORTER_SIMD_INLINE std::uint32_t arm_bits8(const v8f& ux, const v8f& uy, const v8f& uz) const {
+    const v8i ix = v8_trunc(ux), iy = v8_trunc(uy), iz = v8_trunc(uz);
+    const v8i word = (iy + v8i_splat(dims_.y()) * iz) * v8i_splat(static_cast<std::int32_t>(words_per_row_)) + (ix >> 6);
+    const v8i bit = ix & 63;
+    std::uint32_t mask = 0;
+    for (int i = 0; i < 8; ++i)
+      mask |= static_cast<std::uint32_t>((arm_[static_cast<std::uint32_t>(word[i])] >> bit[i]) & 1u) << i;
+    return mask;
   }
 
   /// Reference accessors (slow, for tests): membership of the sets at padded indices; false

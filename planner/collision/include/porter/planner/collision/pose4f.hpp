@@ -1,7 +1,7 @@
 #pragma once
-// A rigid transform in float32 with 4-lane columns, for the kernel queries' hot loops. The
-// only SIMD in the planner lives here, written with GCC/Clang vector extensions (portable to
-// SSE2 and NEON; no intrinsics, no -march flags needed).
+// A rigid transform in float32 with 4-lane columns, for the kernel queries' hot loops, written
+// with GCC/Clang vector extensions (portable to SSE2 and NEON; no intrinsics, no -march flags
+// needed). The eight-lane counterparts are in simd8.hpp.
 //
 // Precision: float32 (relative 6e-8); used on robot-sized coordinates (base frame, or voxel
 // coordinates relative to the map's corner), where rounding stays below 1e-5 m.

@@ -24,7 +24,7 @@
 // e_j = r_j (upper - lower) / (2 (N_j - 1)) (r_j: largest distance of the link from joint j's
 // origin; the nearest sample moves a link point at most r_j * step / 2).
 // K^7: gripper + payload in the EE frame, one kernel (no joint), d_7 = s sqrt(3)/2.
-// Each kernel is a sphere tree (point_tree.hpp). A query transforms the points of the sample
+// Each kernel is an eight-wide sphere tree (wide_point_tree.hpp). A query transforms the points of the sample
 // nearest q_j by T_W_J; a point hits when it lies within d_j of the box of a core voxel
 // (occupied / outside / below ground, map_kernel.hpp): one bit of the map kernel's dilated arm
 // set first, then the exact point-to-box distances of the 27 voxels around it (MapKernel::arm_near).
@@ -52,7 +52,7 @@
 
 #include "porter/core/robot_model.hpp"
 #include "porter/planner/collision/kernel_kinematics.hpp"
-#include "porter/planner/collision/point_tree.hpp"
+#include "porter/planner/collision/wide_point_tree.hpp"
 
 namespace porter::planner {
 
@@ -68,8 +68,6 @@ struct RobotKernelSettings {
   /// Point lattice of K^1..K^7: spacing s = resolution_m / lattice_subdivision (>= 1). Finer
   /// means less inflation (see above) and more points; d_j must stay below one voxel.
   int lattice_subdivision = 2;
-  /// Largest number of points in a sphere-tree leaf.
-  int leaf_size = 16;
 };
 
 /// One x-row of a base kernel: voxels dx0 + i for every set bit i of mask, at (dy, dz).
@@ -129,8 +127,8 @@ class RobotKernels {
   /// Offsets of yaw sample k (tests).
   std::vector<Eigen::Vector3i> base_offsets(int k) const;
 
-  // Point kernels (links 1..7): tree `link_tree(j, k)` of pool `link_pool(j)`, frame J_j, metres.
-  const PointTreePool& link_pool(int link) const { return pools_[static_cast<std::size_t>(link)]; }
+  // Point kernels (links 1..7): tree k of pool `link_pool(j)` is sample k, frame J_j, metres.
+  const WidePointTreePool& link_pool(int link) const { return pools_[static_cast<std::size_t>(link)]; }
 
   /// Total kernels (N_0 + sum N_j + 1) and the bytes they use.
   int kernel_count() const;
@@ -145,7 +143,6 @@ class RobotKernels {
   double res_ = 0.0;
   double spacing_ = 0.0;
   double base_horizontal_radius_ = 0.0;
-  int leaf_size_ = 16;
   ChainRadii radii_;
   std::array<int, kNumLinks> num_samples_{};
   std::array<double, kNumLinks> sample_error_{}, kernel_radius_{};
@@ -155,7 +152,7 @@ class RobotKernels {
   std::vector<std::size_t> base_tile_begin_{0};
   std::array<int, 4> base_footprint_{0, -1, 0, -1};
   int base_layers_ = 1;
-  std::array<PointTreePool, kNumLinks> pools_;
+  std::array<WidePointTreePool, kNumLinks> pools_;
   int max_extent_voxels_ = 0;
 };
 

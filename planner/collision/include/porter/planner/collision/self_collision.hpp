@@ -22,7 +22,7 @@
 //      proof needs more than proof_max_boxes joint boxes, or that touches, stays checked.
 //   2. Run time, every other pair: of the two links, b is the one of smaller volume and a the
 //      other. The centres of the voxels (edge s, link frame of b) that b's geometry meets (solid,
-//      exact rasterization), in a sphere tree, are moved into a's frame; a subtree is skipped when
+//      exact rasterization), in an eight-wide sphere tree, are moved into a's frame; a subtree is skipped when
 //      a's distance grid (link_distance.hpp, a lower bound) proves its sphere farther than
 //      s sqrt(3)/2 from a; a remaining point hits when its exact distance to a's shapes is at
 //      most s sqrt(3)/2. Any point x common to a and b lies in one of those voxels, whose centre
@@ -41,7 +41,7 @@
 #include "porter/planner/collision/collision_checker.hpp"
 #include "porter/planner/collision/kernel_kinematics.hpp"
 #include "porter/planner/collision/link_distance.hpp"
-#include "porter/planner/collision/point_tree.hpp"
+#include "porter/planner/collision/wide_point_tree.hpp"
 
 namespace porter::planner {
 
@@ -95,10 +95,17 @@ class SelfCollisionChecker {
   std::array<DistanceGrid, kNumLinks> grids_;
   std::array<Eigen::Vector3f, kNumLinks> sphere_centre_{};  ///< link bounding spheres (link frame)
   std::array<float, kNumLinks> sphere_radius_{};
-  PointTreePool samples_;  ///< tree k = samples of link k (link frame)
+  WidePointTreePool samples_;  ///< tree k = samples of link k (link frame)
   std::array<std::array<PairStatus, kNumLinks>, kNumLinks> status_{};
   std::vector<std::array<int, 2>> pairs_;  ///< checked pairs {grid link, sampled link}, in check order
-  std::vector<float> pair_reach2_;         ///< squared sum of the pair's sphere radii + threshold
+  /// The checked pairs eight at a time, for the bounding-sphere test of check(): lane i of chunk
+  /// c is pair 8c + i (grid link a, sampled link b, squared sum of the sphere radii + threshold;
+  /// spare lanes have reach2 -1 and never pass).
+  struct alignas(32) PairLanes {
+    std::int32_t a[8], b[8];
+    float reach2[8];
+  };
+  std::vector<PairLanes> pair_lanes_;
   float threshold_m_ = 0.f;
   ChainRadii radii_;
 };

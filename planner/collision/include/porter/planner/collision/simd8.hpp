@@ -1,0 +1,101 @@
+#pragma once
+// Eight-lane float / int vectors for the kernel queries' node and point tests, written with
+// GCC/Clang vector extensions like pose4f.hpp: the baseline x86-64 build runs each as two SSE2
+// operations, an AVX2 build (PORTER_NATIVE_KERNELS) as one. Lanes are read and written by index
+// (the compiler spills to the stack where it has no better instruction), so no intrinsics are
+// needed except the sign-mask extraction, which has a portable fallback.
+//
+// Thread-safety: value types and pure functions.
+
+#include <cstdint>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#endif
+
+// Every function taking or returning an eight-lane vector is forced inline: the collision
+// library may be compiled with -march=native (PORTER_NATIVE_KERNELS) and its callers without,
+// and an out-of-line copy would be one symbol with two calling conventions. GCC's note that the
+// AVX calling convention differs (-Wpsabi) is therefore moot and silenced here.
+#pragma GCC diagnostic ignored "-Wpsabi"
+#define PORTER_SIMD_INLINE inline __attribute__((always_inline))
+#define PORTER_SIMD_LAMBDA __attribute__((always_inline))
+
+// The query functions that walk the kernels are compiled twice on x86-64 builds for the
+// baseline ISA: for x86-64-v3 (AVX2 + FMA: one instruction per eight-lane operation, lane
+// multiplies, no SSE2 emulation) and for the baseline, picked once at load time by the CPU
+// (GCC function multi-versioning). A -march build that already has AVX2 needs neither.
+#if defined(__x86_64__) && !defined(__AVX2__) && defined(__GNUC__) && !defined(__clang__)
+#define PORTER_KERNEL_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define PORTER_KERNEL_CLONES
+#endif
+
+namespace porter::planner {
+
+typedef float v8f __attribute__((vector_size(32)));
+typedef std::int32_t v8i __attribute__((vector_size(32)));
+
+PORTER_SIMD_INLINE v8f v8f_splat(float x) { return v8f{x, x, x, x, x, x, x, x}; }
+PORTER_SIMD_INLINE v8i v8i_splat(std::int32_t x) { return v8i{x, x, x, x, x, x, x, x}; }
+
+/// Eight floats from memory (any alignment).
+PORTER_SIMD_INLINE v8f v8f_load(const float* p) {
+  v8f v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+
+/// Bit i set when lane i of a comparison result (0 or -1 per lane) is -1.
+PORTER_SIMD_INLINE std::uint32_t lane_mask(const v8i& m) {
+#if defined(__AVX__)
+  return static_cast<std::uint32_t>(_mm256_movemask_ps(reinterpret_cast<__m256>(m)));
+#elif defined(__SSE2__)
+  __m128i lo, hi;
+  std::memcpy(&lo, &m, 16);
+  std::memcpy(&hi, reinterpret_cast<const char*>(&m) + 16, 16);
+  return static_cast<std::uint32_t>(_mm_movemask_ps(_mm_castsi128_ps(lo)) |
+                                    (_mm_movemask_ps(_mm_castsi128_ps(hi)) << 4));
+#else
+  std::uint32_t out = 0;
+  for (int i = 0; i < 8; ++i) out |= static_cast<std::uint32_t>(m[i] & 1) << i;
+  return out;
+#endif
+}
+
+/// Lane-wise truncation towards zero (static_cast<int> per lane; out-of-range lanes are
+/// unspecified, as for the scalar cast: callers range-check before using them).
+PORTER_SIMD_INLINE v8i v8_trunc(const v8f& x) { return __builtin_convertvector(x, v8i); }
+PORTER_SIMD_INLINE v8f v8_float(const v8i& x) { return __builtin_convertvector(x, v8f); }
+
+/// Applies a rigid transform, given as its 12 entries splatted (rows of R, then t), to eight
+/// points: out = R p + t per lane.
+struct Pose8f {
+  v8f r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1, t2;
+
+  template <class Pose>
+  PORTER_SIMD_INLINE static Pose8f from(const Pose& T) {  // Pose4f: columns c0..c2 and t
+    Pose8f p;
+    p.r00 = v8f_splat(T.c0[0]);
+    p.r10 = v8f_splat(T.c0[1]);
+    p.r20 = v8f_splat(T.c0[2]);
+    p.r01 = v8f_splat(T.c1[0]);
+    p.r11 = v8f_splat(T.c1[1]);
+    p.r21 = v8f_splat(T.c1[2]);
+    p.r02 = v8f_splat(T.c2[0]);
+    p.r12 = v8f_splat(T.c2[1]);
+    p.r22 = v8f_splat(T.c2[2]);
+    p.t0 = v8f_splat(T.t[0]);
+    p.t1 = v8f_splat(T.t[1]);
+    p.t2 = v8f_splat(T.t[2]);
+    return p;
+  }
+  PORTER_SIMD_INLINE void apply(const v8f& x, const v8f& y, const v8f& z, v8f* ox, v8f* oy, v8f* oz) const {
+    *ox = r00 * x + r01 * y + r02 * z + t0;
+    *oy = r10 * x + r11 * y + r12 * z + t1;
+    *oz = r20 * x + r21 * y + r22 * z + t2;
+  }
+};
+
+}  // namespace porter::planner

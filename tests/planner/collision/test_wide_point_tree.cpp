@@ -1,0 +1,205 @@
+// The eight-wide sphere trees and the eight-lane lookups the kernel queries are built from
+// (wide_point_tree.hpp, simd8.hpp): every vector lookup against its scalar counterpart. This
+// file is compiled for the baseline ISA, so the lane helpers run here in their baseline form;
+// the checkers' exactness tests (test_checker_reference.cpp) run the dispatched versions.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <tuple>
+
+#include "collision_test_utils.hpp"
+#include "porter/planner/collision/link_distance.hpp"
+#include "porter/planner/collision/map_kernel.hpp"
+#include "porter/planner/collision/wide_point_tree.hpp"
+
+namespace porter::planner {
+namespace {
+
+std::vector<Eigen::Vector3f> random_points(int n, std::mt19937_64& rng) {
+  std::vector<Eigen::Vector3f> p;
+  for (int i = 0; i < n; ++i)
+    p.emplace_back(static_cast<float>(test::uniform(rng, -1, 1)), static_cast<float>(test::uniform(rng, -0.2, 0.3)),
+                   static_cast<float>(test::uniform(rng, 0, 2)));
+  return p;
+}
+
+using Key = std::tuple<float, float, float>;
+
+std::vector<Key> sorted_keys(const std::vector<Eigen::Vector3f>& pts) {
+  std::vector<Key> k;
+  for (const auto& p : pts) k.emplace_back(p.x(), p.y(), p.z());
+  std::sort(k.begin(), k.end());
+  return k;
+}
+
+/// Every point below node slot (node, i) or in a block, for containment checks.
+void collect(const WidePointTreePool& pool, std::int32_t ref, std::vector<Eigen::Vector3f>& out, int depth,
+             int* max_depth) {
+  *max_depth = std::max(*max_depth, depth);
+  if (ref < 0) {
+    const PointBlock& b = pool.blocks()[~ref];
+    for (int i = 0; i < 8; ++i) out.emplace_back(b.x[i], b.y[i], b.z[i]);
+    return;
+  }
+  const WideNode& n = pool.nodes()[ref];
+  for (int i = 0; i < 8; ++i)
+    if ((n.used >> i) & 1u) collect(pool, n.child[i], out, depth + 1, max_depth);
+}
+
+TEST(WidePointTree, SpheresContainTheirSubtreesAndEveryPointIsKeptOnce) {
+  std::mt19937_64 rng(11);
+  WidePointTreePool pool;
+  for (int n : {1, 7, 8, 9, 63, 64, 65, 513, 5000}) {
+    const auto pts = random_points(n, rng);
+    const int t = pool.add_tree(pts);
+    ASSERT_EQ(pool.tree_size(t), pts.size());
+    EXPECT_EQ(sorted_keys(pool.points(t)), sorted_keys(pts)) << n;
+    const WideTreeRoot& root = pool.root(t);
+    std::vector<Eigen::Vector3f> below;
+    int depth = 0;
+    collect(pool, root.ref, below, 0, &depth);
+    // The walk reaches exactly the points (spare block lanes repeat one of them).
+    std::vector<Key> reached = sorted_keys(below), given = sorted_keys(pts);
+    reached.erase(std::unique(reached.begin(), reached.end()), reached.end());
+    given.erase(std::unique(given.begin(), given.end()), given.end());
+    EXPECT_EQ(reached, given) << n;
+    for (const auto& p : below) EXPECT_LE((p - Eigen::Vector3f(root.cx, root.cy, root.cz)).norm(), root.radius_m);
+    // Eight children per node at most, so ceil(log8(n / 8)) levels of nodes.
+    EXPECT_LE(depth, static_cast<int>(std::ceil(std::log(std::max(1.0, n / 8.0)) / std::log(8.0))) + 1) << n;
+    // Every child sphere holds its subtree.
+    for (std::size_t k = 0; k < pool.num_nodes(); ++k) {
+      const WideNode& node = pool.nodes()[k];
+      for (int i = 0; i < 8; ++i) {
+        if (!((node.used >> i) & 1u)) continue;
+        std::vector<Eigen::Vector3f> sub;
+        int d = 0;
+        collect(pool, node.child[i], sub, 0, &d);
+        for (const auto& p : sub)
+          ASSERT_LE((p - Eigen::Vector3f(node.cx[i], node.cy[i], node.cz[i])).norm(), node.r[i]);
+      }
+    }
+  }
+  WidePointTreePool empty;
+  const int e = empty.add_tree({});
+  EXPECT_EQ(empty.tree_size(e), 0u);
+  EXPECT_TRUE(empty.points(e).empty());
+  EXPECT_FALSE(wide_tree_any(
+      empty, e, [](const WideNode&) { return 0xffu; }, [](const PointBlock&) { return true; }));
+}
+
+TEST(WidePointTree, PrunedWalkFindsAPointInABallExactlyWhenOneIsThere) {
+  std::mt19937_64 rng(5);
+  WidePointTreePool pool;
+  const auto pts = random_points(3000, rng);
+  const int t = pool.add_tree(pts);
+  int hits = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    const Eigen::Vector3f c(static_cast<float>(test::uniform(rng, -1.2, 1.2)),
+                            static_cast<float>(test::uniform(rng, -0.4, 0.5)),
+                            static_cast<float>(test::uniform(rng, -0.2, 2.2)));
+    const float r = static_cast<float>(test::uniform(rng, 0.01, 0.08));
+    bool brute = false;
+    for (const auto& p : pts) brute = brute || (p - c).norm() <= r;
+    const bool walk = wide_tree_any(
+        pool, t,
+        [&](const WideNode& n) {
+          std::uint32_t open = 0;
+          for (int i = 0; i < 8; ++i)
+            if ((Eigen::Vector3f(n.cx[i], n.cy[i], n.cz[i]) - c).norm() <= n.r[i] + r) open |= 1u << i;
+          return open;
+        },
+        [&](const PointBlock& b) {
+          for (int i = 0; i < 8; ++i)
+            if ((Eigen::Vector3f(b.x[i], b.y[i], b.z[i]) - c).norm() <= r) return true;
+          return false;
+        });
+    EXPECT_EQ(walk, brute) << trial;
+    hits += brute;
+  }
+  EXPECT_GT(hits, 20);   // both answers exercised
+  EXPECT_LT(hits, 280);
+}
+
+TEST(Simd8, LaneMaskAndTruncationMatchScalar) {
+  const v8i m{-1, 0, 0, -1, 0, 0, 0, -1};
+  EXPECT_EQ(lane_mask(m), 0x89u);
+  const v8f x{-1.5f, -0.5f, 0.f, 0.5f, 1.5f, 2.99f, 1e6f, -7.f};
+  const v8i t = v8_trunc(x);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(t[i], static_cast<int>(x[i]));
+}
+
+TEST(Simd8, MapKernelLaneLookupsMatchTheScalarOnes) {
+  OccupancyGrid g({0.3, -0.2, 0.0}, 0.05, {40, 30, 20});
+  std::mt19937_64 rng(9);
+  for (int k = 0; k < 60; ++k)
+    g.set(static_cast<int>(rng() % 40), static_cast<int>(rng() % 30), static_cast<int>(rng() % 20));
+  MapKernel mk(MapKernelSettings{}, 6, 4);
+  mk.set_map(g);
+  const Eigen::Vector3i n = mk.padded_dims();
+  int clear_nonzero = 0, arm_set = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    alignas(32) float x[8], y[8], z[8];
+    for (int i = 0; i < 8; ++i) {
+      // Points inside the padded array (the arm-bit precondition) and, for the clearance, also
+      // around it (outside the grid's region reads 0).
+      x[i] = static_cast<float>(test::uniform(rng, 1.0, n.x() - 1.0));
+      y[i] = static_cast<float>(test::uniform(rng, 1.0, n.y() - 1.0));
+      z[i] = static_cast<float>(test::uniform(rng, 1.0, n.z() - 1.0));
+    }
+    const v8f ux = v8f_load(x), uy = v8f_load(y), uz = v8f_load(z);
+    const v8f c = mk.clearance_units8(ux, uy, uz);
+    const std::uint32_t bits = mk.arm_bits8(ux, uy, uz);
+    for (int i = 0; i < 8; ++i) {
+      ASSERT_EQ(c[i], static_cast<float>(mk.clearance_units(x[i], y[i], z[i])));
+      ASSERT_EQ(((bits >> i) & 1u) != 0,
+                mk.arm_bit(static_cast<int>(x[i]), static_cast<int>(y[i]), static_cast<int>(z[i])));
+      clear_nonzero += c[i] > 0.f;
+      arm_set += (bits >> i) & 1u;
+    }
+    for (int i = 0; i < 8; ++i) {
+      x[i] = static_cast<float>(test::uniform(rng, -20.0, n.x() + 20.0));
+      y[i] = static_cast<float>(test::uniform(rng, -20.0, n.y() + 20.0));
+      z[i] = static_cast<float>(test::uniform(rng, -20.0, n.z() + 20.0));
+    }
+    const v8f far = mk.clearance_units8(v8f_load(x), v8f_load(y), v8f_load(z));
+    for (int i = 0; i < 8; ++i) ASSERT_EQ(far[i], static_cast<float>(mk.clearance_units(x[i], y[i], z[i])));
+  }
+  EXPECT_GT(clear_nonzero, 1000);
+  EXPECT_GT(arm_set, 100);
+}
+
+TEST(Simd8, DistanceGridClearOf8MatchesClearOf) {
+  CollisionShape box;
+  box.geometry = Box{Eigen::Vector3d(0.3, 0.1, 0.2)};
+  box.T_parent_shape.translation() = Eigen::Vector3d(0.05, -0.02, 0.1);
+  CollisionShape cyl;
+  cyl.geometry = Cylinder{0.04, 0.3};
+  cyl.T_parent_shape.translation() = Eigen::Vector3d(-0.1, 0.05, 0.3);
+  const DistanceGrid grid({box, cyl}, 0.01, 0.05);
+  std::mt19937_64 rng(4);
+  int clear = 0, total = 0;
+  for (int trial = 0; trial < 3000; ++trial) {
+    alignas(32) float x[8], y[8], z[8], d[8];
+    for (int i = 0; i < 8; ++i) {
+      x[i] = static_cast<float>(test::uniform(rng, -0.5, 0.5));
+      y[i] = static_cast<float>(test::uniform(rng, -0.4, 0.4));
+      z[i] = static_cast<float>(test::uniform(rng, -0.3, 0.7));
+      d[i] = static_cast<float>(test::uniform(rng, -0.02, 0.3));
+    }
+    const std::uint32_t m = grid.clear_of8(v8f_load(x), v8f_load(y), v8f_load(z), v8f_load(d));
+    for (int i = 0; i < 8; ++i) {
+      const bool scalar = grid.clear_of(Eigen::Vector3f(x[i], y[i], z[i]), d[i]);
+      ASSERT_EQ(((m >> i) & 1u) != 0, scalar) << x[i] << " " << y[i] << " " << z[i] << " d " << d[i];
+      clear += scalar;
+      ++total;
+    }
+  }
+  EXPECT_GT(clear, total / 10);  // both answers exercised, inside and outside the grid's box
+  EXPECT_LT(clear, total - total / 10);
+}
+
+}  // namespace
+}  // namespace porter::planner
