@@ -7,9 +7,9 @@
 // subtree), so a query walks them without a stack: test a node, and either descend (next node)
 // or jump past its subtree (skip). Points are stored as float32 in structure-of-arrays form.
 //
-// Used by the robot kernels (environment check: a subtree is skipped when the distance field
-// proves its sphere free) and by the self-collision samples (skipped when the other link's
-// distance lower bound exceeds the sphere).
+// Used by the back-end's self-collision penalty (surface samples of a link, a subtree skipped
+// when the other link's SDF proves it beyond the penalty's reach). The kernel checks use the
+// eight-wide trees of wide_point_tree.hpp instead.
 //
 // Thread-safety: immutable after construction; concurrent reads are safe.
 
