@@ -20,21 +20,14 @@ std::size_t PointTreePool::tree_size(int tree) const {
 
 std::uint32_t PointTreePool::build(std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t end,
                                    int leaf_size) {
-  Eigen::Vector3f lo = pts[begin], hi = pts[begin];
-  for (std::uint32_t k = begin + 1; k < end; ++k) {
-    lo = lo.cwiseMin(pts[k]);
-    hi = hi.cwiseMax(pts[k]);
-  }
-  const Eigen::Vector3f c = 0.5f * (lo + hi);
-  float r2 = 0.f;
-  for (std::uint32_t k = begin; k < end; ++k) r2 = std::max(r2, (pts[k] - c).squaredNorm());
+  Eigen::Vector3f c;
+  const float radius = points_sphere(pts, begin, end, &c);
   const auto index = static_cast<std::uint32_t>(nodes_.size());
   PointTreeNode node;
   node.cx = c.x();
   node.cy = c.y();
   node.cz = c.z();
-  // Round the radius up by a relative ulp margin so float rounding never shrinks the sphere.
-  node.radius_m = std::sqrt(r2) * (1.f + 1e-6f) + 1e-7f;
+  node.radius_m = radius;
   nodes_.push_back(node);
   const std::uint32_t count = end - begin;
   if (count <= static_cast<std::uint32_t>(leaf_size)) {
@@ -47,7 +40,7 @@ std::uint32_t PointTreePool::build(std::vector<Eigen::Vector3f>& pts, std::uint3
     }
   } else {
     int axis = 0;
-    (hi - lo).maxCoeff(&axis);
+    points_box(pts, begin, end).sizes().maxCoeff(&axis);
     const std::uint32_t mid = begin + count / 2;
     std::nth_element(pts.begin() + begin, pts.begin() + mid, pts.begin() + end,
                      [axis](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a[axis] < b[axis]; });

@@ -1,29 +1,13 @@
 #include "porter/planner/collision/wide_point_tree.hpp"
 
 #include <algorithm>
-#include <cmath>
 #include <stdexcept>
+
+#include "porter/planner/collision/point_tree.hpp"
 
 namespace porter::planner {
 
 namespace {
-
-struct Sphere {
-  Eigen::Vector3f centre;
-  float radius;
-};
-
-Sphere bounding_sphere(const std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t end) {
-  Eigen::Vector3f lo = pts[begin], hi = pts[begin];
-  for (std::uint32_t k = begin + 1; k < end; ++k) {
-    lo = lo.cwiseMin(pts[k]);
-    hi = hi.cwiseMax(pts[k]);
-  }
-  const Eigen::Vector3f c = 0.5f * (lo + hi);
-  float r2 = 0.f;
-  for (std::uint32_t k = begin; k < end; ++k) r2 = std::max(r2, (pts[k] - c).squaredNorm());
-  return {c, std::sqrt(r2) * (1.f + 1e-6f) + 1e-7f};
-}
 
 /// Splits [begin, end) into at most `parts` groups at medians of the longest axis, every split
 /// after a multiple of eight points (the remainder ends in the last group).
@@ -34,13 +18,8 @@ void split(std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t
     out.emplace_back(begin, end);
     return;
   }
-  Eigen::Vector3f lo = pts[begin], hi = pts[begin];
-  for (std::uint32_t k = begin + 1; k < end; ++k) {
-    lo = lo.cwiseMin(pts[k]);
-    hi = hi.cwiseMax(pts[k]);
-  }
   int axis = 0;
-  (hi - lo).maxCoeff(&axis);
+  points_box(pts, begin, end).sizes().maxCoeff(&axis);
   const std::uint32_t mid = begin + 8 * (blocks / 2);
   std::nth_element(pts.begin() + begin, pts.begin() + mid, pts.begin() + end,
                    [axis](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a[axis] < b[axis]; });
@@ -55,11 +34,11 @@ int WidePointTreePool::add_tree(const std::vector<Eigen::Vector3f>& points) {
   root.num_points = static_cast<std::uint32_t>(points.size());
   if (!points.empty()) {
     std::vector<Eigen::Vector3f> pts = points;
-    const Sphere s = bounding_sphere(pts, 0, root.num_points);
-    root.cx = s.centre.x();
-    root.cy = s.centre.y();
-    root.cz = s.centre.z();
-    root.radius_m = s.radius;
+    Eigen::Vector3f c;
+    root.radius_m = points_sphere(pts, 0, root.num_points, &c);
+    root.cx = c.x();
+    root.cy = c.y();
+    root.cz = c.z();
     root.ref = build(pts, 0, root.num_points, 0);
   }
   roots_.push_back(root);
@@ -93,11 +72,11 @@ std::int32_t WidePointTreePool::build(std::vector<Eigen::Vector3f>& pts, std::ui
     node.child[i] = 0;
   }
   for (std::size_t i = 0; i < groups.size(); ++i) {
-    const Sphere s = bounding_sphere(pts, groups[i].first, groups[i].second);
-    node.cx[i] = s.centre.x();
-    node.cy[i] = s.centre.y();
-    node.cz[i] = s.centre.z();
-    node.r[i] = s.radius;
+    Eigen::Vector3f c;
+    node.r[i] = points_sphere(pts, groups[i].first, groups[i].second, &c);
+    node.cx[i] = c.x();
+    node.cy[i] = c.y();
+    node.cz[i] = c.z();
     node.child[i] = build(pts, groups[i].first, groups[i].second, depth + 1);
     node.used |= 1u << i;
   }

@@ -10,18 +10,10 @@
 namespace porter::planner {
 namespace {
 
-std::vector<Eigen::Vector3f> random_points(int n, std::mt19937_64& rng) {
-  std::vector<Eigen::Vector3f> p;
-  for (int i = 0; i < n; ++i)
-    p.emplace_back(static_cast<float>(test::uniform(rng, -1, 1)), static_cast<float>(test::uniform(rng, -0.2, 0.3)),
-                   static_cast<float>(test::uniform(rng, 0, 2)));
-  return p;
-}
-
 TEST(PointTree, EveryNodeSphereContainsItsSubtree) {
   std::mt19937_64 rng(3);
   PointTreePool pool;
-  const auto pts = random_points(1000, rng);
+  const auto pts = test::random_cloud(1000, rng);
   const int t = pool.add_tree(pts, 7);
   ASSERT_EQ(pool.tree_size(t), pts.size());
   for (std::uint32_t i = pool.tree_begin(t); i < pool.tree_end(t); ++i) {
@@ -45,8 +37,8 @@ TEST(PointTree, EveryNodeSphereContainsItsSubtree) {
 TEST(PointTree, WalkVisitsEveryPointOnceAndStopsAtAHit) {
   std::mt19937_64 rng(4);
   PointTreePool pool;
-  pool.add_tree(random_points(10, rng), 4);
-  const auto pts = random_points(500, rng);
+  pool.add_tree(test::random_cloud(10, rng), 4);
+  const auto pts = test::random_cloud(500, rng);
   const int t = pool.add_tree(pts, 16);
   pool.add_tree({}, 4);
   std::multiset<std::tuple<float, float, float>> seen, expected;

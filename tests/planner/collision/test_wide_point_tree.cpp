@@ -18,14 +18,6 @@
 namespace porter::planner {
 namespace {
 
-std::vector<Eigen::Vector3f> random_points(int n, std::mt19937_64& rng) {
-  std::vector<Eigen::Vector3f> p;
-  for (int i = 0; i < n; ++i)
-    p.emplace_back(static_cast<float>(test::uniform(rng, -1, 1)), static_cast<float>(test::uniform(rng, -0.2, 0.3)),
-                   static_cast<float>(test::uniform(rng, 0, 2)));
-  return p;
-}
-
 using Key = std::tuple<float, float, float>;
 
 std::vector<Key> sorted_keys(const std::vector<Eigen::Vector3f>& pts) {
@@ -53,7 +45,7 @@ TEST(WidePointTree, SpheresContainTheirSubtreesAndEveryPointIsKeptOnce) {
   std::mt19937_64 rng(11);
   WidePointTreePool pool;
   for (int n : {1, 7, 8, 9, 63, 64, 65, 513, 5000}) {
-    const auto pts = random_points(n, rng);
+    const auto pts = test::random_cloud(n, rng);
     const int t = pool.add_tree(pts);
     ASSERT_EQ(pool.tree_size(t), pts.size());
     EXPECT_EQ(sorted_keys(pool.points(t)), sorted_keys(pts)) << n;
@@ -93,7 +85,7 @@ TEST(WidePointTree, SpheresContainTheirSubtreesAndEveryPointIsKeptOnce) {
 TEST(WidePointTree, PrunedWalkFindsAPointInABallExactlyWhenOneIsThere) {
   std::mt19937_64 rng(5);
   WidePointTreePool pool;
-  const auto pts = random_points(3000, rng);
+  const auto pts = test::random_cloud(3000, rng);
   const int t = pool.add_tree(pts);
   int hits = 0;
   for (int trial = 0; trial < 300; ++trial) {

@@ -37,6 +37,15 @@ inline double uniform(std::mt19937_64& rng, double lo, double hi) {
   return lo + (hi - lo) * static_cast<double>(rng() >> 11) * 0x1.0p-53;
 }
 
+/// n points uniform in the box [-1, 1] x [-0.2, 0.3] x [0, 2] (float), for tree tests.
+inline std::vector<Eigen::Vector3f> random_cloud(int n, std::mt19937_64& rng) {
+  std::vector<Eigen::Vector3f> p;
+  for (int i = 0; i < n; ++i)
+    p.emplace_back(static_cast<float>(uniform(rng, -1, 1)), static_cast<float>(uniform(rng, -0.2, 0.3)),
+                   static_cast<float>(uniform(rng, 0, 2)));
+  return p;
+}
+
 inline JointVector random_joints(const RobotModel& model, std::mt19937_64& rng) {
   JointVector q;
   for (int j = 0; j < kNumArmJoints; ++j)

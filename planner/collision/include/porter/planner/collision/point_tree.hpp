@@ -14,6 +14,9 @@
 // Thread-safety: immutable after construction; concurrent reads are safe.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,6 +30,24 @@ struct PointTreeNode {
   std::uint32_t first_point = 0;       ///< leaves: pool index of the first point
   std::uint32_t num_points = 0;        ///< > 0 for a leaf, 0 for an internal node
 };
+
+/// Axis-aligned box of pts[begin, end) (begin < end).
+inline Eigen::AlignedBox3f points_box(const std::vector<Eigen::Vector3f>& pts, std::uint32_t begin,
+                                      std::uint32_t end) {
+  Eigen::AlignedBox3f box(pts[begin]);
+  for (std::uint32_t k = begin + 1; k < end; ++k) box.extend(pts[k]);
+  return box;
+}
+
+/// Sphere around pts[begin, end): the box centre and the largest distance to a point, rounded
+/// up by a relative 1e-6 so float rounding never shrinks it. Returns the radius.
+inline float points_sphere(const std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t end,
+                           Eigen::Vector3f* centre) {
+  *centre = points_box(pts, begin, end).center();
+  float r2 = 0.f;
+  for (std::uint32_t k = begin; k < end; ++k) r2 = std::max(r2, (pts[k] - *centre).squaredNorm());
+  return std::sqrt(r2) * (1.f + 1e-6f) + 1e-7f;
+}
 
 class PointTreePool {
  public:
