@@ -27,6 +27,7 @@ KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const Ke
       self_(model, settings.self),
       map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers()),
       motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {
+  clearance_units_per_m_ = static_cast<float>(4.0 / kernels_.resolution_m());
   // d_j in voxels, squared, grown by 1e-4 voxel for float32 rounding (robot_kernels.hpp).
   for (int j = 1; j < kNumLinks; ++j) {
     const double r = kernels_.kernel_radius_m(j) / kernels_.resolution_m() + 1e-4;
@@ -67,7 +68,7 @@ PORTER_KERNEL_CLONES bool KernelCollisionChecker::base_hit(int bx, int by, int y
 PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std::array<int, kNumLinks>& sample,
                                                                       const Pose4f& T_V_B,
                                                                       const ArmPoses& poses) const {
-  const float scale = static_cast<float>(4.0 / kernels_.resolution_m());
+  const float scale = clearance_units_per_m_;
   // Lane j = link j's root sphere; lane 0 and empty kernels get a radius no clearance fails.
   alignas(32) float x[8] = {}, y[8] = {}, z[8] = {}, need[8];
   need[0] = -1e30f;
@@ -91,7 +92,7 @@ PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std:
 
 PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
                                                            const Pose4f& T_B_J) const {
-  const float scale = static_cast<float>(4.0 / kernels_.resolution_m());
+  const float scale = clearance_units_per_m_;
   const MapKernel& map = map_;
   const WidePointTreePool& pool = kernels_.link_pool(link);
   const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
@@ -148,11 +149,10 @@ PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(cons
     T_V_B.t = v4f{static_cast<float>(ux), static_cast<float>(uy),
                   static_cast<float>(-map_.padded_origin_W().z() * inv_h), 0.f};
     const std::uint32_t near = links_near(sample, T_V_B, poses);
-    if (near != 0)
-      for (int link : kArmOrder) {
-        const auto l = static_cast<std::size_t>(link);
-        if (((near >> link) & 1u) && link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
-      }
+    for (int link : kArmOrder) {
+      const auto l = static_cast<std::size_t>(link);
+      if (((near >> link) & 1u) && link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
+    }
   }
   if (self && settings_.check_self_collision) return self_.check(poses);
   return CollisionResult{};

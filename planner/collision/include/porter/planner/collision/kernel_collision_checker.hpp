@@ -127,6 +127,7 @@ class KernelCollisionChecker final : public CollisionChecker {
   double motion_step_m_ = 0.0;
   std::array<float, kNumLinks> kernel_reach2_vox_{};   ///< (d_j / h)^2 per link, for MapKernel::arm_near
   std::array<float, kNumLinks> kernel_reach_units_{};  ///< d_j in clearance units (h / 4) per link
+  float clearance_units_per_m_ = 0.f;                   ///< 4 / h
 };
 
 }  // namespace porter::planner

@@ -1,7 +1,7 @@
 #pragma once
 // Eight-lane float / int vectors for the kernel queries' node and point tests, written with
-// GCC/Clang vector extensions like pose4f.hpp: the baseline x86-64 build runs each as two SSE2
-// operations, an AVX2 build (PORTER_NATIVE_KERNELS) as one. Lanes are read and written by index
+// GCC/Clang vector extensions like pose4f.hpp: baseline x86-64 code runs each as two SSE2
+// operations, AVX2 code (the PORTER_KERNEL_CLONES copies below, or PORTER_NATIVE_KERNELS) as one. Lanes are read and written by index
 // (the compiler spills to the stack where it has no better instruction), so no intrinsics are
 // needed except the sign-mask extraction, which has a portable fallback.
 //
@@ -17,7 +17,10 @@
 // Every function taking or returning an eight-lane vector is forced inline: the collision
 // library may be compiled with -march=native (PORTER_NATIVE_KERNELS) and its callers without,
 // and an out-of-line copy would be one symbol with two calling conventions. GCC's note that the
-// AVX calling convention differs (-Wpsabi) is therefore moot and silenced here.
+// AVX calling convention differs (-Wpsabi) is therefore moot. It is silenced for the rest of
+// every file that includes this header (a push/pop here would not cover the eight-lane helpers
+// defined in map_kernel.hpp, link_distance.hpp and the query sources); Porter has no other
+// vector type wider than 16 bytes, which is all the note is about.
 #pragma GCC diagnostic ignored "-Wpsabi"
 #define PORTER_SIMD_INLINE inline __attribute__((always_inline))
 #define PORTER_SIMD_LAMBDA __attribute__((always_inline))
