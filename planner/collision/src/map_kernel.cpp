@@ -64,7 +64,7 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
       margin_half_width_[static_cast<std::size_t>((dy + k) + n * (dz + k))] = best;
     }
 
-  cells_ = (grid_dims_ + Eigen::Vector3i::Ones()) / 2;
+  cells_ = (grid_dims_ + Eigen::Vector3i::Constant(kCellVoxels - 1)) / kCellVoxels;
   cell_offset_ = static_cast<float>(pad_);
   cap_units_ = std::min(255, static_cast<int>(std::floor(4.0 * settings_.distance_cap_m / res_)));
   clearance_.assign(static_cast<std::size_t>(cells_.prod()), 0);
@@ -217,11 +217,11 @@ MapUpdateStats MapKernel::set_map(const OccupancyGrid& grid) {
   rebuild_projection();
   // Cells whose voxels may have changed in the arm set, grown by the distance cap: every cell
   // whose (capped) distance can see a changed voxel.
-  const int cap_cells = static_cast<int>(std::ceil(cap_units_ / 8.0)) + 2;  // cap in cells of 2 voxels
+  const int cap_cells = static_cast<int>(std::ceil(cap_units_ / (4.0 * kCellVoxels))) + 2;  // cap in cells
   const Eigen::Vector3i cell_lo =
-      ((lo - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / 2 - Eigen::Vector3i::Constant(cap_cells);
+      ((lo - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels - Eigen::Vector3i::Constant(cap_cells);
   const Eigen::Vector3i cell_hi =
-      ((hi - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / 2 + Eigen::Vector3i::Constant(cap_cells);
+      ((hi - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels + Eigen::Vector3i::Constant(cap_cells);
   rebuild_clearance(cell_lo, cell_hi);
   return stats;
 }

@@ -37,9 +37,9 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
   // rounding), but never more than 2 voxels beyond the grid: everything outside it is in the
   // core set, so a ring of it stands for all of it.
   const int reach = static_cast<int>(std::ceil(cap_units_ / 4.0)) + 2;
-  const Eigen::Vector3i lo = (2 * cell_lo - Eigen::Vector3i::Constant(reach)).cwiseMax(-2);
-  const Eigen::Vector3i hi =
-      (2 * cell_hi + Eigen::Vector3i::Constant(1 + reach)).cwiseMin(grid_dims_ + Eigen::Vector3i::Constant(1));
+  const Eigen::Vector3i lo = (kCellVoxels * cell_lo - Eigen::Vector3i::Constant(reach)).cwiseMax(-2);
+  const Eigen::Vector3i hi = (kCellVoxels * cell_hi + Eigen::Vector3i::Constant(kCellVoxels - 1 + reach))
+                                 .cwiseMin(grid_dims_ + Eigen::Vector3i::Constant(1));
   const Eigen::Vector3i n = hi - lo + Eigen::Vector3i::Ones();
   auto local = [&](int x, int y, int z) {
     return static_cast<std::size_t>(x) +
@@ -58,13 +58,15 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
   edt::dilate26(set, n.x(), n.y(), n.z());
   std::vector<std::int32_t> d2;
   edt::squared_distance_3d(set, n.x(), n.y(), n.z(), d2);
-  // A cell's value: the smallest gap of its 2 x 2 x 2 voxels, in units of h / 4, rounded down.
+  // A cell's value: the smallest gap of its voxels, in units of h / 4, rounded down.
   for (int cz = cell_lo.z(); cz <= cell_hi.z(); ++cz)
     for (int cy = cell_lo.y(); cy <= cell_hi.y(); ++cy)
       for (int cx = cell_lo.x(); cx <= cell_hi.x(); ++cx) {
         std::int32_t q = edt::kFar;
-        for (int k = 0; k < 8; ++k) {
-          const int x = 2 * cx + (k & 1) - lo.x(), y = 2 * cy + ((k >> 1) & 1) - lo.y(), z = 2 * cz + (k >> 2) - lo.z();
+        for (int k = 0; k < kCellVoxels * kCellVoxels * kCellVoxels; ++k) {
+          const int x = kCellVoxels * cx + k % kCellVoxels - lo.x();
+          const int y = kCellVoxels * cy + (k / kCellVoxels) % kCellVoxels - lo.y();
+          const int z = kCellVoxels * cz + k / (kCellVoxels * kCellVoxels) - lo.z();
           q = std::min(q, d2[local(x, y, z)]);
         }
         const double units = 4.0 * std::sqrt(static_cast<double>(q));
