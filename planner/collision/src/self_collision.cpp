@@ -89,12 +89,35 @@ SelfCollisionChecker::SelfCollisionChecker(const RobotModel& model, const SelfCo
     lanes.b[p % 8] = pr[1];
     lanes.reach2[p % 8] = reach * reach;
   }
+  static_assert(kNumLinks * (kNumLinks - 1) / 2 <= 32, "check() keeps one bit per pair");
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const int a = pairs_[p][0], b = pairs_[p][1];
+    RootGroup* group = nullptr;
+    for (RootGroup& g : root_groups_)
+      if (g.a == a && g.lane_bits != 0xffu) group = &g;
+    if (group == nullptr) {
+      group = &root_groups_.emplace_back();
+      group->a = a;
+      for (int i = 0; i < 8; ++i) {
+        group->b[i] = group->pair[i] = 0;
+        group->need[i] = 0.f;
+      }
+    }
+    const int lane = __builtin_popcount(group->lane_bits);
+    group->b[lane] = b;
+    group->need[lane] = samples_.root(b).radius_m + threshold_m_;
+    group->pair[lane] = static_cast<std::int32_t>(p);
+    group->lane_bits |= 1u << lane;
+    group->pair_bits |= 1u << p;
+    if (std::find(sampled_links_.begin(), sampled_links_.end(), b) == sampled_links_.end()) sampled_links_.push_back(b);
+  }
 }
 
 PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses& poses) const {
   CollisionResult result;
   const float thr = threshold_m_;
-  // Bounding spheres of the links in the base frame, lane k = link k.
+  // 1. Bounding spheres of the links in the base frame (lane k = link k), eight pairs per test:
+  //    bit p of `close` = pair p's spheres are within the threshold.
   alignas(32) float cx[8], cy[8], cz[8];
   for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k) {
     const v4f c = poses.T_B_L[k].apply(sphere_centre_[k].x(), sphere_centre_[k].y(), sphere_centre_[k].z());
@@ -102,62 +125,88 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
     cy[k] = c[1];
     cz[k] = c[2];
   }
-  const v8f Cx = v8f_load(cx), Cy = v8f_load(cy), Cz = v8f_load(cz);
-  std::array<Pose4f, kNumLinks> T_L_B;  // inverses, computed when first needed
-  std::array<bool, kNumLinks> have_inverse{};
-  have_inverse[0] = true;  // T_B_L[0] is the identity
-  // Pairs whose bounding spheres are within the threshold, eight pairs per test, in pair order.
-  for (std::size_t chunk = 0; chunk < pair_lanes_.size(); ++chunk) {
-    const PairLanes& lanes = pair_lanes_[chunk];
-    v8i ia, ib;
-    std::memcpy(&ia, lanes.a, sizeof(ia));
-    std::memcpy(&ib, lanes.b, sizeof(ib));
-    const v8f dx = __builtin_shuffle(Cx, ia) - __builtin_shuffle(Cx, ib);
-    const v8f dy = __builtin_shuffle(Cy, ia) - __builtin_shuffle(Cy, ib);
-    const v8f dz = __builtin_shuffle(Cz, ia) - __builtin_shuffle(Cz, ib);
-    std::uint32_t close = ~lane_mask(dx * dx + dy * dy + dz * dz > v8f_load(lanes.reach2)) & 0xffu;
-    while (close != 0) {
-      const std::size_t p = 8 * chunk + static_cast<std::size_t>(__builtin_ctz(close));
-      close &= close - 1;
-      const auto& pr = pairs_[p];
-      const auto a = static_cast<std::size_t>(pr[0]), b = static_cast<std::size_t>(pr[1]);
-      const WideTreeRoot& root = samples_.root(static_cast<int>(b));
-      if (!have_inverse[a]) {
+  std::uint32_t close = 0;
+  {
+    const v8f Cx = v8f_load(cx), Cy = v8f_load(cy), Cz = v8f_load(cz);
+    for (std::size_t chunk = 0; chunk < pair_lanes_.size(); ++chunk) {
+      const PairLanes& lanes = pair_lanes_[chunk];
+      v8i ia, ib;
+      std::memcpy(&ia, lanes.a, sizeof(ia));
+      std::memcpy(&ib, lanes.b, sizeof(ib));
+      const v8f dx = __builtin_shuffle(Cx, ia) - __builtin_shuffle(Cx, ib);
+      const v8f dy = __builtin_shuffle(Cy, ia) - __builtin_shuffle(Cy, ib);
+      const v8f dz = __builtin_shuffle(Cz, ia) - __builtin_shuffle(Cz, ib);
+      close |= (~lane_mask(dx * dx + dy * dy + dz * dz > v8f_load(lanes.reach2)) & 0xffu) << (8 * chunk);
+    }
+  }
+  if (close == 0) return result;
+  // 2. Root spheres of the sample trees, moved into the grid link's frame, eight pairs of one
+  //    grid link per test: bit p of `open` = pair p's root sphere is not proven clear.
+  alignas(32) float rx[8] = {}, ry[8] = {}, rz[8] = {};
+  for (int k : sampled_links_) {
+    const auto i = static_cast<std::size_t>(k);
+    const WideTreeRoot& root = samples_.root(k);
+    const v4f c = poses.T_B_L[i].apply(root.cx, root.cy, root.cz);
+    rx[i] = c[0];
+    ry[i] = c[1];
+    rz[i] = c[2];
+  }
+  std::array<Pose4f, kNumLinks> T_L_B;  // inverses of the grid links' poses, set per group
+  std::uint32_t open = 0;
+  {
+    const v8f Rx = v8f_load(rx), Ry = v8f_load(ry), Rz = v8f_load(rz);
+    for (const RootGroup& g : root_groups_) {
+      if ((close & g.pair_bits) == 0) continue;
+      v8i ib;
+      std::memcpy(&ib, g.b, sizeof(ib));
+      v8f x = __builtin_shuffle(Rx, ib), y = __builtin_shuffle(Ry, ib), z = __builtin_shuffle(Rz, ib);
+      const auto a = static_cast<std::size_t>(g.a);
+      if (a != 0) {  // T_B_L[0] is the identity
         T_L_B[a] = poses.T_B_L[a].inverse();
-        have_inverse[a] = true;
+        Pose8f::from(T_L_B[a]).apply(x, y, z, &x, &y, &z);
       }
-      // The root sphere first, without composing the full transform.
-      const v4f r_B = poses.T_B_L[b].apply(root.cx, root.cy, root.cz);
-      const v4f r_a = a == 0 ? r_B : T_L_B[a].apply(r_B[0], r_B[1], r_B[2]);
-      const DistanceGrid& grid = grids_[a];
-      if (grid.clear_of(Eigen::Vector3f(r_a[0], r_a[1], r_a[2]), root.radius_m + thr)) continue;
-      const Pose8f T_a_b = Pose8f::from(a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b]);
-      const LinkDistance& la = links_[a];
-      const v8f thr8 = v8f_splat(thr);
-      const bool hit = wide_tree_any(
-          samples_, static_cast<int>(b),
-          [&](const WideNode& n) PORTER_SIMD_LAMBDA {
-            v8f x, y, z;
-            T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
-            return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
-          },
-          [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
-            v8f x, y, z;
-            T_a_b.apply(v8f_load(blk.x), v8f_load(blk.y), v8f_load(blk.z), &x, &y, &z);
-            std::uint32_t m = ~grid.clear_of8(x, y, z, thr8) & 0xffu;
-            while (m != 0) {
-              const int i = __builtin_ctz(m);
-              m &= m - 1;
-              if (la.within(Eigen::Vector3f(x[i], y[i], z[i]), thr)) return true;
-            }
-            return false;
-          });
-      if (hit) {
-        result.in_collision = true;
-        result.link = std::min(pr[0], pr[1]);
-        result.other_link = std::max(pr[0], pr[1]);
-        return result;
+      std::uint32_t m = ~grids_[a].clear_of8(x, y, z, v8f_load(g.need)) & g.lane_bits;
+      while (m != 0) {
+        open |= 1u << g.pair[__builtin_ctz(m)];
+        m &= m - 1;
       }
+    }
+  }
+  open &= close;
+  // 3. The remaining pairs in pair order: b's sample tree below the root against a's grid, then
+  //    the exact distance for points the grid does not clear.
+  const v8f thr8 = v8f_splat(thr);
+  while (open != 0) {
+    const auto p = static_cast<std::size_t>(__builtin_ctz(open));
+    open &= open - 1;
+    const auto& pr = pairs_[p];
+    const auto a = static_cast<std::size_t>(pr[0]), b = static_cast<std::size_t>(pr[1]);
+    const Pose8f T_a_b = Pose8f::from(a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b]);
+    const DistanceGrid& grid = grids_[a];
+    const LinkDistance& la = links_[a];
+    const bool hit = wide_tree_any(
+        samples_, static_cast<int>(b),
+        [&](const WideNode& n) PORTER_SIMD_LAMBDA {
+          v8f x, y, z;
+          T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
+          return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
+        },
+        [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
+          v8f x, y, z;
+          T_a_b.apply(v8f_load(blk.x), v8f_load(blk.y), v8f_load(blk.z), &x, &y, &z);
+          std::uint32_t m = ~grid.clear_of8(x, y, z, thr8) & 0xffu;
+          while (m != 0) {
+            const int i = __builtin_ctz(m);
+            m &= m - 1;
+            if (la.within(Eigen::Vector3f(x[i], y[i], z[i]), thr)) return true;
+          }
+          return false;
+        });
+    if (hit) {
+      result.in_collision = true;
+      result.link = std::min(pr[0], pr[1]);
+      result.other_link = std::max(pr[0], pr[1]);
+      return result;
     }
   }
   return result;

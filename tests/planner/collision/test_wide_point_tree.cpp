@@ -13,6 +13,7 @@
 #include "collision_test_utils.hpp"
 #include "porter/planner/collision/link_distance.hpp"
 #include "porter/planner/collision/map_kernel.hpp"
+#include "porter/planner/collision/pose4f.hpp"
 #include "porter/planner/collision/wide_point_tree.hpp"
 
 namespace porter::planner {
@@ -121,6 +122,36 @@ TEST(Simd8, LaneMaskAndTruncationMatchScalar) {
   const v8f x{-1.5f, -0.5f, 0.f, 0.5f, 1.5f, 2.99f, 1e6f, -7.f};
   const v8i t = v8_trunc(x);
   for (int i = 0; i < 8; ++i) EXPECT_EQ(t[i], static_cast<int>(x[i]));
+}
+
+TEST(Simd8, Pose8fAppliesThePose4fToEveryLaneEvenInPlace) {
+  std::mt19937_64 rng(4);
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(0.4, -1.2, 2.5);
+  const Pose4f P(T);
+  const Pose8f P8 = Pose8f::from(P);
+  alignas(32) float x[8], y[8], z[8];
+  for (int i = 0; i < 8; ++i) {
+    x[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+    y[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+    z[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+  }
+  v8f ox, oy, oz;
+  P8.apply(v8f_load(x), v8f_load(y), v8f_load(z), &ox, &oy, &oz);
+  v8f ix = v8f_load(x), iy = v8f_load(y), iz = v8f_load(z);
+  P8.apply(ix, iy, iz, &ix, &iy, &iz);  // outputs aliasing the inputs
+  for (int i = 0; i < 8; ++i) {
+    const v4f r = P.apply(x[i], y[i], z[i]);
+    const Eigen::Vector3d e = T * Eigen::Vector3d(x[i], y[i], z[i]);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(r[k], e[k], 1e-5);
+    EXPECT_NEAR(ox[i], r[0], 1e-5);
+    EXPECT_NEAR(oy[i], r[1], 1e-5);
+    EXPECT_NEAR(oz[i], r[2], 1e-5);
+    EXPECT_EQ(ix[i], ox[i]);
+    EXPECT_EQ(iy[i], oy[i]);
+    EXPECT_EQ(iz[i], oz[i]);
+  }
 }
 
 TEST(Simd8, MapKernelLaneLookupsMatchTheScalarOnes) {

@@ -27,6 +27,9 @@
 //      s sqrt(3)/2 from a; a remaining point hits when its exact distance to a's shapes is at
 //      most s sqrt(3)/2. Any point x common to a and b lies in one of those voxels, whose centre
 //      is within s sqrt(3)/2 of x and hence of a: no overlap is missed.
+//      Order of the run-time tests: the links' bounding spheres, eight pairs per test; then the
+//      root spheres of the sample trees of the pairs left, eight pairs of one grid link per test;
+//      then the trees below the roots, pair by pair in check order.
 //      A reported pair is at most s sqrt(3) + 0.1 mm apart (inflation_bound_m(); the 0.1 mm
 //      covers float32 rounding of poses and points).
 //
@@ -106,6 +109,20 @@ class SelfCollisionChecker {
     float reach2[8];
   };
   std::vector<PairLanes> pair_lanes_;
+  /// The checked pairs grouped by grid link, eight per group, for the root-sphere test of
+  /// check(): lane i is pair pair[i] (sampled link b[i], root radius + threshold need[i]); spare
+  /// lanes have lane_bits clear.
+  struct alignas(32) RootGroup {
+    std::int32_t b[8];
+    float need[8];
+    std::int32_t pair[8];
+    int a = 0;
+    std::uint32_t lane_bits = 0;  ///< used lanes
+    std::uint32_t pair_bits = 0;  ///< bit p for every pair p of the group
+  };
+  std::vector<RootGroup> root_groups_;
+  /// Links whose sample trees some pair uses, and their root-sphere centres (link frame).
+  std::vector<int> sampled_links_;
   float threshold_m_ = 0.f;
   ChainRadii radii_;
 };

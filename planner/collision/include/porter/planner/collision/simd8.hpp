@@ -94,10 +94,13 @@ struct Pose8f {
     p.t2 = v8f_splat(T.t[2]);
     return p;
   }
+  /// The outputs may alias the inputs.
   PORTER_SIMD_INLINE void apply(const v8f& x, const v8f& y, const v8f& z, v8f* ox, v8f* oy, v8f* oz) const {
-    *ox = r00 * x + r01 * y + r02 * z + t0;
-    *oy = r10 * x + r11 * y + r12 * z + t1;
+    const v8f X = r00 * x + r01 * y + r02 * z + t0;
+    const v8f Y = r10 * x + r11 * y + r12 * z + t1;
     *oz = r20 * x + r21 * y + r22 * z + t2;
+    *ox = X;
+    *oy = Y;
   }
 };
 
