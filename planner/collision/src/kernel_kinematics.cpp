@@ -72,11 +72,14 @@ KernelKinematics::KernelKinematics(const RobotModel& model) : T_L6_EE_(model.T_L
 PORTER_KERNEL_CLONES void KernelKinematics::compute(const JointVector& q_rad, ArmPoses& poses) const {
   poses.T_B_J[0] = Pose4f::identity();
   poses.T_B_L[0] = Pose4f::identity();
+  static_assert(kNumArmJoints == 6, "two joints in the upper half");
+  const v4d q_lo{q_rad[0], q_rad[1], q_rad[2], q_rad[3]}, q_hi{q_rad[4], q_rad[5], 0.0, 0.0};
+  v8f sin8, cos8;
+  fast_sincos8(q_lo, q_hi, &sin8, &cos8);
   for (int j = 1; j <= kNumArmJoints; ++j) {
     const auto i = static_cast<std::size_t>(j - 1);
     const auto sj = static_cast<std::size_t>(j);
-    float s = 0.f, c = 1.f;
-    fast_sincos(q_rad[j - 1], &s, &c);
+    const float s = sin8[j - 1], c = cos8[j - 1];
     poses.T_B_J[sj] = T_parent_joint_[i].after(poses.T_B_L[sj - 1]);
     if (z_axis_[i] != 0) {
       poses.T_B_L[sj] = poses.T_B_J[sj].rotated_z(c, static_cast<float>(z_axis_[i]) * s);

@@ -25,6 +25,22 @@ TEST(FastSinCos, MatchesStdWithinFloatPrecision) {
   }
 }
 
+TEST(FastSinCos, EightLanesMatchStdWithinFloatPrecision) {
+  std::mt19937_64 rng(12);
+  std::uniform_real_distribution<double> wide(-60.0, 60.0);
+  const double special[8] = {0.0, M_PI / 4, M_PI / 2, M_PI, -M_PI, 1e5 + 0.3, -3 * M_PI / 4, 2 * M_PI};
+  for (int trial = 0; trial < 3000; ++trial) {
+    alignas(32) double x[8];
+    for (int i = 0; i < 8; ++i) x[i] = trial == 0 ? special[i] : wide(rng);
+    v8f s, c;
+    fast_sincos8(v4d{x[0], x[1], x[2], x[3]}, v4d{x[4], x[5], x[6], x[7]}, &s, &c);
+    for (int i = 0; i < 8; ++i) {
+      ASSERT_NEAR(s[i], std::sin(x[i]), 3e-7) << x[i];
+      ASSERT_NEAR(c[i], std::cos(x[i]), 3e-7) << x[i];
+    }
+  }
+}
+
 TEST(KernelKinematics, MatchesCoreForwardKinematics) {
   const RobotModel model = test::shipped_robot_with("t_bar");
   const KernelKinematics kin(model);

@@ -18,6 +18,7 @@
 #include "porter/core/robot_model.hpp"
 #include "porter/core/types.hpp"
 #include "porter/planner/collision/pose4f.hpp"
+#include "porter/planner/collision/simd8.hpp"
 
 namespace porter::planner {
 
@@ -57,6 +58,37 @@ inline void fast_sincos(double x, float* s, float* c) {
   const std::uint32_t so = sq ^ ((q & 2u) << 30), co = cq ^ (((q + 1u) & 2u) << 30);
   std::memcpy(s, &so, 4);
   std::memcpy(c, &co, 4);
+}
+
+typedef double v4d __attribute__((vector_size(32)));
+
+/// fast_sincos of eight angles at once, lanes 0-3 from x_lo and 4-7 from x_hi (same reduction,
+/// polynomials and bounds), for the joint angles of one forward-kinematics pass. The halves are
+/// joined in registers: through memory, two 16-byte stores read back as one 32-byte load would
+/// miss store forwarding.
+PORTER_SIMD_INLINE void fast_sincos8(const v4d& x_lo, const v4d& x_hi, v8f* s, v8f* c) {
+  typedef float v4f_ __attribute__((vector_size(16)));
+  typedef std::int32_t v4i_ __attribute__((vector_size(16)));
+  constexpr double kTwoOverPi = 0.63661977236758134308;
+  constexpr double kPiOver2Hi = 1.5707963267948966192;
+  constexpr double kRound = 6755399441055744.0;
+  const v4d k_lo = (x_lo * kTwoOverPi + kRound) - kRound, k_hi = (x_hi * kTwoOverPi + kRound) - kRound;
+  const v4f_ r_lo = __builtin_convertvector(x_lo - k_lo * kPiOver2Hi, v4f_);
+  const v4f_ r_hi = __builtin_convertvector(x_hi - k_hi * kPiOver2Hi, v4f_);
+  const v4i_ q_lo = __builtin_convertvector(k_lo, v4i_), q_hi = __builtin_convertvector(k_hi, v4i_);
+  const v8f r = __builtin_shufflevector(r_lo, r_hi, 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8i q = __builtin_shufflevector(q_lo, q_hi, 0, 1, 2, 3, 4, 5, 6, 7);
+  const v8f r2 = r * r;
+  const v8f sr =
+      r + r * r2 * (v8f_splat(-1.6666654611e-1f) + r2 * (v8f_splat(8.3321608736e-3f) + r2 * v8f_splat(-1.9515295891e-4f)));
+  const v8f cr = v8f_splat(1.f) - v8f_splat(0.5f) * r2 +
+                 r2 * r2 *
+                     (v8f_splat(4.166664568298827e-2f) +
+                      r2 * (v8f_splat(-1.388731625493765e-3f) + r2 * v8f_splat(2.443315711809948e-5f)));
+  const v8i swap = -(q & 1), sb = (v8i)sr, cb = (v8i)cr;  // vector casts reinterpret the bits
+  const v8i sq = (sb & ~swap) | (cb & swap), cq = (cb & ~swap) | (sb & swap);
+  *s = (v8f)(sq ^ ((q & 2) << 30));
+  *c = (v8f)(cq ^ (((q + 1) & 2) << 30));
 }
 
 /// Link poses in the base frame B (float32): the kernel frames T_B_J (index 1..7; [0] = B)
