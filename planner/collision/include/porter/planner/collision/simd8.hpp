@@ -40,8 +40,11 @@ namespace porter::planner {
 typedef float v8f __attribute__((vector_size(32)));
 typedef std::int32_t v8i __attribute__((vector_size(32)));
 
-PORTER_SIMD_INLINE v8f v8f_splat(float x) { return v8f{x, x, x, x, x, x, x, x}; }
-PORTER_SIMD_INLINE v8i v8i_splat(std::int32_t x) { return v8i{x, x, x, x, x, x, x, x}; }
+// Splats are shuffles of lane 0: GCC 12 builds v8f{x, x, ..., x} in the AVX2 clones from four
+// 8-byte stores read back as one 32-byte load (a missed store forwarding each time), where the
+// shuffle becomes one vbroadcastss (shufps in the baseline).
+PORTER_SIMD_INLINE v8f v8f_splat(float x) { return __builtin_shuffle(v8f{x}, v8i{}); }
+PORTER_SIMD_INLINE v8i v8i_splat(std::int32_t x) { return __builtin_shuffle(v8i{x}, v8i{}); }
 
 /// Eight floats from memory (any alignment).
 PORTER_SIMD_INLINE v8f v8f_load(const float* p) {
