@@ -69,25 +69,25 @@ PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std:
                                                                       const Pose4f& T_V_B,
                                                                       const ArmPoses& poses) const {
   const float scale = clearance_units_per_m_;
-  // Lane j = link j's root sphere; lane 0 and empty kernels get a radius no clearance fails.
-  alignas(32) float x[8] = {}, y[8] = {}, z[8] = {}, need[8];
-  need[0] = -1e30f;
+  // Row j = link j's root-sphere centre (padded voxels) and the clearance it needs; row 0 and
+  // empty kernels need less than any clearance.
+  v4f rows[8];
+  rows[0] = v4f{0.f, 0.f, 0.f, -1e30f};
   for (int link = 1; link < kNumLinks; ++link) {
     const auto l = static_cast<std::size_t>(link);
     const WideTreeRoot& root = kernels_.link_pool(link).root(sample[l]);
     if (root.num_points == 0) {
-      need[l] = -1e30f;
+      rows[l] = v4f{0.f, 0.f, 0.f, -1e30f};
       continue;
     }
     const v4f c_B = poses.T_B_J[l].apply(root.cx, root.cy, root.cz);
-    const v4f c_V = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
-    x[l] = c_V[0];
-    y[l] = c_V[1];
-    z[l] = c_V[2];
-    need[l] = root.radius_m * scale + kernel_reach_units_[l];
+    rows[l] = T_V_B.apply(c_B[0], c_B[1], c_B[2]);
+    rows[l][3] = root.radius_m * scale + kernel_reach_units_[l];
   }
-  const v8f clearance = map_.clearance_units8(v8f_load(x), v8f_load(y), v8f_load(z));
-  return ~lane_mask(v8f_load(need) < clearance) & 0xfeu;
+  v8f x, y, z, need;
+  transpose8x4(rows, &x, &y, &z, &need);
+  const v8f clearance = map_.clearance_units8(x, y, z);
+  return ~lane_mask(need < clearance) & 0xfeu;
 }
 
 PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,

@@ -118,16 +118,13 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
   const float thr = threshold_m_;
   // 1. Bounding spheres of the links in the base frame (lane k = link k), eight pairs per test:
   //    bit p of `close` = pair p's spheres are within the threshold.
-  alignas(32) float cx[8], cy[8], cz[8];
-  for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k) {
-    const v4f c = poses.T_B_L[k].apply(sphere_centre_[k].x(), sphere_centre_[k].y(), sphere_centre_[k].z());
-    cx[k] = c[0];
-    cy[k] = c[1];
-    cz[k] = c[2];
-  }
+  v4f rows[8];
+  for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k)
+    rows[k] = poses.T_B_L[k].apply(sphere_centre_[k].x(), sphere_centre_[k].y(), sphere_centre_[k].z());
   std::uint32_t close = 0;
   {
-    const v8f Cx = v8f_load(cx), Cy = v8f_load(cy), Cz = v8f_load(cz);
+    v8f Cx, Cy, Cz, unused;
+    transpose8x4(rows, &Cx, &Cy, &Cz, &unused);
     for (std::size_t chunk = 0; chunk < pair_lanes_.size(); ++chunk) {
       const PairLanes& lanes = pair_lanes_[chunk];
       v8i ia, ib;
@@ -142,19 +139,16 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
   if (close == 0) return result;
   // 2. Root spheres of the sample trees, moved into the grid link's frame, eight pairs of one
   //    grid link per test: bit p of `open` = pair p's root sphere is not proven clear.
-  alignas(32) float rx[8] = {}, ry[8] = {}, rz[8] = {};
+  for (v4f& r : rows) r = v4f{};
   for (int k : sampled_links_) {
-    const auto i = static_cast<std::size_t>(k);
     const WideTreeRoot& root = samples_.root(k);
-    const v4f c = poses.T_B_L[i].apply(root.cx, root.cy, root.cz);
-    rx[i] = c[0];
-    ry[i] = c[1];
-    rz[i] = c[2];
+    rows[static_cast<std::size_t>(k)] = poses.T_B_L[static_cast<std::size_t>(k)].apply(root.cx, root.cy, root.cz);
   }
   std::array<Pose4f, kNumLinks> T_L_B;  // inverses of the grid links' poses, set per group
   std::uint32_t open = 0;
   {
-    const v8f Rx = v8f_load(rx), Ry = v8f_load(ry), Rz = v8f_load(rz);
+    v8f Rx, Ry, Rz, unused;
+    transpose8x4(rows, &Rx, &Ry, &Rz, &unused);
     for (const RootGroup& g : root_groups_) {
       if ((close & g.pair_bits) == 0) continue;
       v8i ib;

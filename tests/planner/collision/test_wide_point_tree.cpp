@@ -124,6 +124,21 @@ TEST(Simd8, LaneMaskAndTruncationMatchScalar) {
   for (int i = 0; i < 8; ++i) EXPECT_EQ(t[i], static_cast<int>(x[i]));
 }
 
+TEST(Simd8, Transpose8x4TurnsRowsIntoColumns) {
+  v4f rows[8];
+  for (int i = 0; i < 8; ++i)
+    rows[i] = v4f{static_cast<float>(10 * i), static_cast<float>(10 * i + 1), static_cast<float>(10 * i + 2),
+                  static_cast<float>(10 * i + 3)};
+  v8f x, y, z, w;
+  transpose8x4(rows, &x, &y, &z, &w);
+  for (int i = 0; i < 8; ++i) {
+    EXPECT_EQ(x[i], 10.f * i);
+    EXPECT_EQ(y[i], 10.f * i + 1.f);
+    EXPECT_EQ(z[i], 10.f * i + 2.f);
+    EXPECT_EQ(w[i], 10.f * i + 3.f);
+  }
+}
+
 TEST(Simd8, Pose8fAppliesThePose4fToEveryLaneEvenInPlace) {
   std::mt19937_64 rng(4);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();

@@ -15,7 +15,7 @@ namespace porter::planner {
 
 typedef float v4f __attribute__((vector_size(16)));
 
-typedef std::int32_t v4i_index __attribute__((vector_size(16)));
+typedef std::int32_t v4i_index __attribute__((vector_size(16)));  // as in simd8.hpp
 
 /// A shuffle of lane 0 (one broadcast), not v4f{x, x, x, x}: see v8f_splat in simd8.hpp.
 inline v4f v4f_splat(float x) { return __builtin_shuffle(v4f{x}, v4i_index{}); }
