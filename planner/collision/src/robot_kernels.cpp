@@ -81,7 +81,7 @@ double RobotKernels::inflation_bound_m(int link) const {
   return kSqrt3 * spacing_ + 3.0 * sample_error_[static_cast<std::size_t>(link)];
 }
 
-int RobotKernels::base_sample(double yaw_rad) const {
+int RobotKernels::base_sample_wrapped(double yaw_rad) const {
   const int n = num_samples_[0];
   const double t = (yaw_rad + kPi) * inv_step_[0];
   if (!std::isfinite(t)) return 0;

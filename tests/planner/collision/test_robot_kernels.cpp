@@ -161,6 +161,15 @@ TEST_F(RobotKernelsTest, SamplesCoverTheLimitsAndNothingBeyond) {
     const double d = std::remainder(yaw - kernels_->base_sample_yaw(k), 2 * M_PI);
     EXPECT_LE(std::abs(d), M_PI / kernels_->num_samples(0) + 1e-12) << yaw;
   }
+  // The inline fast path agrees with the general reduction, across the wrap and far from it.
+  const int n = kernels_->num_samples(0);
+  for (int i = -4 * n; i <= 4 * n; ++i)
+    for (double frac : {-0.5, -0.4999, 0.0, 0.4999, 0.5}) {
+      const double yaw = -M_PI + (i + frac) * 2 * M_PI / n;
+      EXPECT_EQ(kernels_->base_sample(yaw), kernels_->base_sample_wrapped(yaw)) << yaw;
+    }
+  EXPECT_EQ(kernels_->base_sample(std::nan("")), 0);
+  EXPECT_EQ(kernels_->base_sample(INFINITY), 0);
 }
 
 // The map padding is max_extent_voxels(): no kernel point or offset may reach farther from the

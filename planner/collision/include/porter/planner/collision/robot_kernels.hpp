@@ -102,8 +102,20 @@ class RobotKernels {
   /// Environment inflation bound of the link (m), see the header comment.
   double inflation_bound_m(int link) const;
 
-  int base_sample(double yaw_rad) const;
+  /// Yaw sample nearest yaw_rad (any finite angle; 0 for a non-finite one).
+  int base_sample(double yaw_rad) const {
+    // The usual case, yaw in about [-pi, pi]: round, and wrap the last half-sample to 0.
+    const int n = num_samples_[0];
+    const double t = (yaw_rad + 3.14159265358979323846) * inv_step_[0] + 0.5;
+    if (t >= 0.0 && t < n + 1.0) {
+      const int k = static_cast<int>(t);
+      return k == n ? 0 : k;
+    }
+    return base_sample_wrapped(yaw_rad);
+  }
   double base_sample_yaw(int k) const;
+  /// base_sample() for any angle (reduction modulo 2 pi).
+  int base_sample_wrapped(double yaw_rad) const;
   /// Sample nearest q for joint j (1..6), -1 outside the covered range or for NaN.
   int joint_sample(int joint, double q_rad) const {
     const auto j = static_cast<std::size_t>(joint);
