@@ -35,18 +35,30 @@ struct ChainRadii {
 
 ChainRadii compute_chain_radii(const RobotModel& model);
 
+namespace sincos_detail {
+constexpr double kTwoOverPi = 0.63661977236758134308;
+constexpr double kPiOver2Hi = 1.5707963267948966192;
+constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52: adding it rounds to an integer
+/// Cephes sinf/cosf minimax polynomials on [-pi/4, pi/4], for float or eight-lane r and r2 = r^2
+/// (scalar coefficients broadcast in the vector case).
+template <class F>
+PORTER_SIMD_INLINE F sin_poly(const F& r, const F& r2) {
+  return r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
+}
+template <class F>
+PORTER_SIMD_INLINE F cos_poly(const F& r2) {
+  return 1.f - 0.5f * r2 + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
+}
+}  // namespace sincos_detail
+
 /// sin and cos of x (finite, |x| < 1e6) in float32: exact quadrant reduction in double, then
 /// the Cephes sinf/cosf minimax polynomials on [-pi/4, pi/4] (error < 2e-7). Inline, no libm.
 inline void fast_sincos(double x, float* s, float* c) {
-  constexpr double kTwoOverPi = 0.63661977236758134308;
-  constexpr double kPiOver2Hi = 1.5707963267948966192;
-  constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52: adding it rounds to an integer
+  using namespace sincos_detail;
   const double k = (x * kTwoOverPi + kRound) - kRound;
   const auto r = static_cast<float>(x - k * kPiOver2Hi);
   const float r2 = r * r;
-  const float sr = r + r * r2 * (-1.6666654611e-1f + r2 * (8.3321608736e-3f + r2 * -1.9515295891e-4f));
-  const float cr =
-      1.f - 0.5f * r2 + r2 * r2 * (4.166664568298827e-2f + r2 * (-1.388731625493765e-3f + r2 * 2.443315711809948e-5f));
+  const float sr = sin_poly(r, r2), cr = cos_poly(r2);
   // Quadrant q: swap sin and cos for odd q, negate sin for q = 2, 3 and cos for q = 1, 2, with
   // bit masks rather than branches (the quadrant of a random joint angle is unpredictable).
   const auto q = static_cast<std::uint32_t>(static_cast<long long>(k) & 3);
@@ -63,28 +75,19 @@ inline void fast_sincos(double x, float* s, float* c) {
 typedef double v4d __attribute__((vector_size(32)));
 
 /// fast_sincos of eight angles at once, lanes 0-3 from x_lo and 4-7 from x_hi (same reduction,
-/// polynomials and bounds), for the joint angles of one forward-kinematics pass. The halves are
-/// joined in registers: through memory, two 16-byte stores read back as one 32-byte load would
-/// miss store forwarding.
+/// polynomials and quadrant masks), for the joint angles of one forward-kinematics pass. The
+/// halves are joined in registers: through memory, two 16-byte stores read back as one 32-byte
+/// load would miss store forwarding.
 PORTER_SIMD_INLINE void fast_sincos8(const v4d& x_lo, const v4d& x_hi, v8f* s, v8f* c) {
-  typedef float v4f_ __attribute__((vector_size(16)));
-  typedef std::int32_t v4i_ __attribute__((vector_size(16)));
-  constexpr double kTwoOverPi = 0.63661977236758134308;
-  constexpr double kPiOver2Hi = 1.5707963267948966192;
-  constexpr double kRound = 6755399441055744.0;
+  using namespace sincos_detail;
   const v4d k_lo = (x_lo * kTwoOverPi + kRound) - kRound, k_hi = (x_hi * kTwoOverPi + kRound) - kRound;
-  const v4f_ r_lo = __builtin_convertvector(x_lo - k_lo * kPiOver2Hi, v4f_);
-  const v4f_ r_hi = __builtin_convertvector(x_hi - k_hi * kPiOver2Hi, v4f_);
-  const v4i_ q_lo = __builtin_convertvector(k_lo, v4i_), q_hi = __builtin_convertvector(k_hi, v4i_);
+  const v4f r_lo = __builtin_convertvector(x_lo - k_lo * kPiOver2Hi, v4f);
+  const v4f r_hi = __builtin_convertvector(x_hi - k_hi * kPiOver2Hi, v4f);
+  const v4i q_lo = __builtin_convertvector(k_lo, v4i), q_hi = __builtin_convertvector(k_hi, v4i);
   const v8f r = __builtin_shufflevector(r_lo, r_hi, 0, 1, 2, 3, 4, 5, 6, 7);
   const v8i q = __builtin_shufflevector(q_lo, q_hi, 0, 1, 2, 3, 4, 5, 6, 7);
   const v8f r2 = r * r;
-  const v8f sr =
-      r + r * r2 * (v8f_splat(-1.6666654611e-1f) + r2 * (v8f_splat(8.3321608736e-3f) + r2 * v8f_splat(-1.9515295891e-4f)));
-  const v8f cr = v8f_splat(1.f) - v8f_splat(0.5f) * r2 +
-                 r2 * r2 *
-                     (v8f_splat(4.166664568298827e-2f) +
-                      r2 * (v8f_splat(-1.388731625493765e-3f) + r2 * v8f_splat(2.443315711809948e-5f)));
+  const v8f sr = sin_poly(r, r2), cr = cos_poly(r2);
   const v8i swap = -(q & 1), sb = (v8i)sr, cb = (v8i)cr;  // vector casts reinterpret the bits
   const v8i sq = (sb & ~swap) | (cb & swap), cq = (cb & ~swap) | (sb & swap);
   *s = (v8f)(sq ^ ((q & 2) << 30));

@@ -8,17 +8,17 @@
 // Thread-safety: a value type.
 
 #include <Eigen/Core>
-#include <cstdint>
 #include <Eigen/Geometry>
+#include <cstdint>
 
 namespace porter::planner {
 
 typedef float v4f __attribute__((vector_size(16)));
 
-typedef std::int32_t v4i_index __attribute__((vector_size(16)));  // as in simd8.hpp
+typedef std::int32_t v4i __attribute__((vector_size(16)));
 
 /// A shuffle of lane 0 (one broadcast), not v4f{x, x, x, x}: see v8f_splat in simd8.hpp.
-inline v4f v4f_splat(float x) { return __builtin_shuffle(v4f{x}, v4i_index{}); }
+inline v4f v4f_splat(float x) { return __builtin_shuffle(v4f{x}, v4i{}); }
 
 struct Pose4f {
   v4f c0, c1, c2;  ///< rotation columns (lane 3 unused)

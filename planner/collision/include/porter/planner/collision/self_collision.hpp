@@ -121,7 +121,7 @@ class SelfCollisionChecker {
     std::uint32_t pair_bits = 0;  ///< bit p for every pair p of the group
   };
   std::vector<RootGroup> root_groups_;
-  /// Links whose sample trees some pair uses, and their root-sphere centres (link frame).
+  /// Links whose sample trees some pair uses.
   std::vector<int> sampled_links_;
   float threshold_m_ = 0.f;
   ChainRadii radii_;

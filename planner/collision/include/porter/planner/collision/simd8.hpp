@@ -10,6 +10,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "porter/planner/collision/pose4f.hpp"
+
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
@@ -53,23 +55,20 @@ PORTER_SIMD_INLINE v8f v8f_load(const float* p) {
   return v;
 }
 
-typedef float v4f __attribute__((vector_size(16)));  // as in pose4f.hpp
-typedef std::int32_t v4i_index __attribute__((vector_size(16)));
-
 /// Eight 4-lane rows r[i] = (x_i, y_i, z_i, w_i) as four 8-lane columns, in registers. Filling
 /// a float[8] lane by lane and loading it as one vector would miss store forwarding.
 PORTER_SIMD_INLINE void transpose8x4(const v4f* r, v8f* x, v8f* y, v8f* z, v8f* w) {
   v4f c[2][4];
   for (int h = 0; h < 2; ++h) {
     const v4f* q = r + 4 * h;
-    const v4f xy01 = __builtin_shuffle(q[0], q[1], v4i_index{0, 4, 1, 5});  // x0 x1 y0 y1
-    const v4f xy23 = __builtin_shuffle(q[2], q[3], v4i_index{0, 4, 1, 5});
-    const v4f zw01 = __builtin_shuffle(q[0], q[1], v4i_index{2, 6, 3, 7});  // z0 z1 w0 w1
-    const v4f zw23 = __builtin_shuffle(q[2], q[3], v4i_index{2, 6, 3, 7});
-    c[h][0] = __builtin_shuffle(xy01, xy23, v4i_index{0, 1, 4, 5});
-    c[h][1] = __builtin_shuffle(xy01, xy23, v4i_index{2, 3, 6, 7});
-    c[h][2] = __builtin_shuffle(zw01, zw23, v4i_index{0, 1, 4, 5});
-    c[h][3] = __builtin_shuffle(zw01, zw23, v4i_index{2, 3, 6, 7});
+    const v4f xy01 = __builtin_shuffle(q[0], q[1], v4i{0, 4, 1, 5});  // x0 x1 y0 y1
+    const v4f xy23 = __builtin_shuffle(q[2], q[3], v4i{0, 4, 1, 5});
+    const v4f zw01 = __builtin_shuffle(q[0], q[1], v4i{2, 6, 3, 7});  // z0 z1 w0 w1
+    const v4f zw23 = __builtin_shuffle(q[2], q[3], v4i{2, 6, 3, 7});
+    c[h][0] = __builtin_shuffle(xy01, xy23, v4i{0, 1, 4, 5});
+    c[h][1] = __builtin_shuffle(xy01, xy23, v4i{2, 3, 6, 7});
+    c[h][2] = __builtin_shuffle(zw01, zw23, v4i{0, 1, 4, 5});
+    c[h][3] = __builtin_shuffle(zw01, zw23, v4i{2, 3, 6, 7});
   }
   *x = __builtin_shufflevector(c[0][0], c[1][0], 0, 1, 2, 3, 4, 5, 6, 7);
   *y = __builtin_shufflevector(c[0][1], c[1][1], 0, 1, 2, 3, 4, 5, 6, 7);
@@ -104,8 +103,7 @@ PORTER_SIMD_INLINE v8f v8_float(const v8i& x) { return __builtin_convertvector(x
 struct Pose8f {
   v8f r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1, t2;
 
-  template <class Pose>
-  PORTER_SIMD_INLINE static Pose8f from(const Pose& T) {  // Pose4f: columns c0..c2 and t
+  PORTER_SIMD_INLINE static Pose8f from(const Pose4f& T) {
     Pose8f p;
     p.r00 = v8f_splat(T.c0[0]);
     p.r10 = v8f_splat(T.c0[1]);
