@@ -1,6 +1,8 @@
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 
 namespace porter::planner {
@@ -136,18 +138,7 @@ PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(cons
   ArmPoses poses;
   kinematics_.compute(config.q_rad, poses);
   if (environment) {
-    const double inv_h = 1.0 / kernels_.resolution_m();
-    // Base frame -> padded voxel coordinates of the map kernel: u = (T_W_B p - corner) / h. The
-    // large world offset is subtracted in double before rounding to float.
-    float sy = 0.f, cy = 1.f;
-    fast_sincos(config.base.yaw_rad, &sy, &cy);
-    Pose4f T_V_B;
-    const float c = cy * static_cast<float>(inv_h), s = sy * static_cast<float>(inv_h);
-    T_V_B.c0 = v4f{c, s, 0.f, 0.f};
-    T_V_B.c1 = v4f{-s, c, 0.f, 0.f};
-    T_V_B.c2 = v4f{0.f, 0.f, static_cast<float>(inv_h), 0.f};
-    T_V_B.t = v4f{static_cast<float>(ux), static_cast<float>(uy),
-                  static_cast<float>(-map_.padded_origin_W().z() * inv_h), 0.f};
+    const Pose4f T_V_B = base_to_voxels(config.base.yaw_rad, ux, uy);
     const std::uint32_t near = links_near(sample, T_V_B, poses);
     for (int link : kArmOrder) {
       const auto l = static_cast<std::size_t>(link);
@@ -160,6 +151,98 @@ PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(cons
 
 CollisionResult KernelCollisionChecker::check(const RobotConfiguration& config) const {
   return check_prepared(config, true, true);
+}
+
+void KernelCollisionChecker::check_batch(const RobotConfiguration* configs, std::size_t count,
+                                         CollisionResult* results) const {
+  for (std::size_t i = 0; i < count; i += 8)
+    check_lanes(configs + i, static_cast<int>(std::min<std::size_t>(8, count - i)), results + i);
+}
+
+// check_prepared() for up to eight configurations, configuration i in lane i: the per-configuration
+// tests that have no tree below them (joint limits, base) one by one, forward kinematics and the
+// root spheres of links 1..7 in lanes, the link trees per configuration in check()'s order, then
+// self-collision in lanes (SelfCollisionChecker::check_lanes). Lanes >= count or resolved early
+// compute on the rest pose and are ignored.
+PORTER_KERNEL_CLONES void KernelCollisionChecker::check_lanes(const RobotConfiguration* configs, int count,
+                                                              CollisionResult* results) const {
+  static const JointVector kRest = JointVector::Zero();
+  std::array<const JointVector*, 8> q{};
+  std::array<std::array<int, kNumLinks>, 8> sample{};
+  std::array<Pose4f, 8> T_V_B4;
+  std::uint32_t pending = 0;  // lanes not decided yet
+  for (int i = 0; i < 8; ++i) {
+    const auto li = static_cast<std::size_t>(i);
+    q[li] = &kRest;
+    T_V_B4[li] = Pose4f::identity();
+    if (i >= count) continue;
+    const RobotConfiguration& config = configs[i];
+    CollisionResult& r = results[i];
+    r = CollisionResult{};
+    if (!map_.has_map()) {
+      r = hit(0);
+      continue;
+    }
+    std::array<int, kNumLinks> s{};
+    int bad = 0;
+    for (int j = 1; j <= kNumArmJoints && bad == 0; ++j) {
+      s[static_cast<std::size_t>(j)] = kernels_.joint_sample(j, config.q_rad[j - 1]);
+      if (s[static_cast<std::size_t>(j)] < 0) bad = j;
+    }
+    if (bad != 0) {
+      r = hit(bad);
+      continue;
+    }
+    double ux = 0.0, uy = 0.0;
+    if (!base_voxel(config.base, &ux, &uy) ||
+        base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(config.base.yaw_rad))) {
+      r = hit(0);
+      continue;
+    }
+    sample[li] = s;
+    q[li] = &config.q_rad;
+    T_V_B4[li] = base_to_voxels(config.base.yaw_rad, ux, uy);
+    pending |= 1u << i;
+  }
+  if (pending == 0) return;
+  ArmPoseLanes poses;
+  kinematics_.compute_lanes(q, poses);
+  PoseLanes T_V_B;  // every lane written below
+  for (int i = 0; i < 8; ++i) T_V_B.set_lane(i, T_V_B4[static_cast<std::size_t>(i)]);
+  // Root spheres of links 1..7, eight configurations per test (links_near() in lanes): the
+  // first 16 bytes of a WideTreeRoot are its centre and radius, one row per lane.
+  std::array<std::uint32_t, kNumLinks> near{};
+  const v8f scale = v8f_splat(clearance_units_per_m_);
+  for (int link = 1; link < kNumLinks; ++link) {
+    const auto l = static_cast<std::size_t>(link);
+    const WidePointTreePool& pool = kernels_.link_pool(link);
+    v4f rows[8];
+    std::uint32_t empty = 0;
+    for (int i = 0; i < 8; ++i) {
+      const WideTreeRoot& root = pool.root(sample[static_cast<std::size_t>(i)][l]);
+      std::memcpy(&rows[i], &root, sizeof(v4f));
+      empty |= static_cast<std::uint32_t>(root.num_points == 0) << i;
+    }
+    v8f x, y, z, radius;
+    transpose8x4(rows, &x, &y, &z, &radius);
+    poses.T_B_J[l].apply(x, y, z, &x, &y, &z);
+    T_V_B.apply(x, y, z, &x, &y, &z);
+    const v8f need = radius * scale + v8f_splat(kernel_reach_units_[l]);
+    near[l] = ~lane_mask(need < map_.clearance_units8(x, y, z)) & pending & ~empty;
+  }
+  for (std::uint32_t m = pending; m != 0; m &= m - 1) {
+    const int i = __builtin_ctz(m);
+    const auto li = static_cast<std::size_t>(i);
+    for (int link : kArmOrder) {
+      const auto l = static_cast<std::size_t>(link);
+      if (((near[l] >> i) & 1u) && link_hit(link, sample[li][l], T_V_B4[li], poses.T_B_J[l].lane(i))) {
+        results[i] = hit(link);
+        pending &= ~(1u << i);
+        break;
+      }
+    }
+  }
+  if (pending != 0 && settings_.check_self_collision) self_.check_lanes(poses, pending, results);
 }
 
 CollisionResult KernelCollisionChecker::check_environment(const RobotConfiguration& config) const {

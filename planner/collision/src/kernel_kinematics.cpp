@@ -93,4 +93,35 @@ PORTER_KERNEL_CLONES void KernelKinematics::compute(const JointVector& q_rad, Ar
   poses.T_B_J[kEndEffectorLink] = poses.T_B_L[kEndEffectorLink];
 }
 
+PORTER_KERNEL_CLONES void KernelKinematics::compute_lanes(const std::array<const JointVector*, 8>& q_rad,
+                                                           ArmPoseLanes& poses) const {
+  poses.T_B_J[0].set_all(Pose4f::identity());
+  poses.T_B_L[0] = poses.T_B_J[0];
+  for (int j = 1; j <= kNumArmJoints; ++j) {
+    const auto i = static_cast<std::size_t>(j - 1);
+    const auto sj = static_cast<std::size_t>(j);
+    const v4d q_lo{(*q_rad[0])[j - 1], (*q_rad[1])[j - 1], (*q_rad[2])[j - 1], (*q_rad[3])[j - 1]};
+    const v4d q_hi{(*q_rad[4])[j - 1], (*q_rad[5])[j - 1], (*q_rad[6])[j - 1], (*q_rad[7])[j - 1]};
+    v8f s, c;
+    fast_sincos8(q_lo, q_hi, &s, &c);
+    T_parent_joint_[i].after(poses.T_B_L[sj - 1], poses.T_B_J[sj]);
+    if (z_axis_[i] != 0) {
+      PoseLanes::rotated_z(poses.T_B_J[sj], c, z_axis_[i] > 0 ? s : -s, poses.T_B_L[sj]);
+    } else {
+      // Rodrigues per lane: R(q) = I + s K + (1 - c) K^2 (general axis, not +-z).
+      PoseLanes Rq;
+      const v8f one_c = v8f_splat(1.f) - c;
+      for (int a = 0; a < 3; ++a) {
+        for (int b = 0; b < 3; ++b)
+          Rq.r[a][b] = v8f_splat(a == b ? 1.f : 0.f) + s * v8f_splat(static_cast<float>(K_[i](a, b))) +
+                       one_c * v8f_splat(static_cast<float>(K2_[i](a, b)));
+        Rq.t[a] = v8f_splat(0.f);
+      }
+      PoseLanes::compose(poses.T_B_J[sj], Rq, poses.T_B_L[sj]);
+    }
+  }
+  T_L6_EE_.after(poses.T_B_L[kNumArmJoints], poses.T_B_L[kEndEffectorLink]);
+  poses.T_B_J[kEndEffectorLink] = poses.T_B_L[kEndEffectorLink];
+}
+
 }  // namespace porter::planner

@@ -1,5 +1,6 @@
 // Motion and trajectory checks of KernelCollisionChecker (sampling bounds in its header).
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "porter/core/trajectory.hpp"
@@ -51,6 +52,37 @@ int piece_intervals(double speed, double T, double half_step) {
   return static_cast<int>(std::min(std::max(n, 1.0), 1e7));
 }
 
+/// Checks configurations in the order they are added, eight at a time with check_batch(), and
+/// keeps the first hit in that order: the same answer as checking them one by one and stopping
+/// at the first hit, for at most seven extra checks.
+class BatchedChecks {
+ public:
+  explicit BatchedChecks(const KernelCollisionChecker& checker) : checker_(checker) {}
+  /// Queues c; false once a hit is known (the caller stops adding and reads result()).
+  bool add(const RobotConfiguration& c) {
+    queue_[static_cast<std::size_t>(queued_++)] = c;
+    return queued_ < kLanes || flush();
+  }
+  /// Checks what is queued; false once a hit is known.
+  bool flush() {
+    if (queued_ > 0 && !result_.in_collision) {
+      std::array<CollisionResult, kLanes> results;
+      checker_.check_batch(queue_.data(), static_cast<std::size_t>(queued_), results.data());
+      for (int i = 0; i < queued_ && !result_.in_collision; ++i) result_ = results[static_cast<std::size_t>(i)];
+    }
+    queued_ = 0;
+    return !result_.in_collision;
+  }
+  const CollisionResult& result() const { return result_; }
+
+ private:
+  static constexpr int kLanes = 8;
+  const KernelCollisionChecker& checker_;
+  std::array<RobotConfiguration, kLanes> queue_;
+  int queued_ = 0;
+  CollisionResult result_;
+};
+
 }  // namespace
 
 int KernelCollisionChecker::motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const {
@@ -72,20 +104,17 @@ CollisionResult KernelCollisionChecker::check_motion(const RobotConfiguration& f
     return r;
   }
   const double dyaw = wrap_pi(to.base.yaw_rad - from.base.yaw_rad);
-  CollisionResult r = check(from);
-  if (r) return r;
-  r = check(to);
-  if (r) return r;
+  BatchedChecks checks(*this);
+  if (!checks.add(from) || !checks.add(to)) return checks.result();
   // Interior samples i = 1..n-1 in bisection order: odd multiples of the largest power of two
   // below n first, then of half that, and so on; each index is visited once.
   int stride = 1;
   while (stride * 2 < n) stride *= 2;
   for (; stride >= 1; stride /= 2)
-    for (int i = stride; i < n; i += 2 * stride) {
-      r = check(interpolate(from, to, dyaw, static_cast<double>(i) / n));
-      if (r) return r;
-    }
-  return r;
+    for (int i = stride; i < n; i += 2 * stride)
+      if (!checks.add(interpolate(from, to, dyaw, static_cast<double>(i) / n))) return checks.result();
+  checks.flush();
+  return checks.result();
 }
 
 CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& trajectory) const {
@@ -100,10 +129,9 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
     c.q_rad = z.tail<kNumArmJoints>();
     return c;
   };
-  CollisionResult r;
+  BatchedChecks checks(*this);
   RobotConfiguration prev = config_at(0.0);
-  r = check(prev);
-  if (r) return r;
+  if (!checks.add(prev)) return checks.result();
   double t_prev = 0.0;
   for (int i = 0; i < trajectory.num_pieces(); ++i) {
     const TrajectoryPiece& piece = trajectory.piece(i);
@@ -123,8 +151,7 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
       while (true) {
         const double dyaw = std::abs(wrap_pi(hi.base.yaw_rad - lo.base.yaw_rad));
         if (radii.reach_m * dyaw <= half_step || depth >= 20) {
-          r = check(hi);
-          if (r) return r;
+          if (!checks.add(hi)) return checks.result();
           if (t_hi >= t) break;
           t_lo = t_hi;
           lo = hi;
@@ -141,7 +168,8 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
       t_prev = t;
     }
   }
-  return r;
+  checks.flush();
+  return checks.result();
 }
 
 CollisionResult KernelCollisionChecker::check_trajectory_self(const Trajectory& trajectory) const {

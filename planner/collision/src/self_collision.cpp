@@ -113,9 +113,46 @@ SelfCollisionChecker::SelfCollisionChecker(const RobotModel& model, const SelfCo
   }
 }
 
+CollisionResult SelfCollisionChecker::pair_result(std::size_t p) const {
+  CollisionResult r;
+  r.in_collision = true;
+  r.link = std::min(pairs_[p][0], pairs_[p][1]);
+  r.other_link = std::max(pairs_[p][0], pairs_[p][1]);
+  return r;
+}
+
+// Pair p's sample tree (link b) below its root, moved into a's frame by T_a_b, against a's grid;
+// then the exact distance for points the grid does not clear. Inlined into both callers, so it
+// runs in their instruction set.
+PORTER_SIMD_INLINE bool SelfCollisionChecker::pair_hit(std::size_t p, const Pose4f& T_a_b_4) const {
+  const auto a = static_cast<std::size_t>(pairs_[p][0]), b = static_cast<std::size_t>(pairs_[p][1]);
+  const float thr = threshold_m_;
+  const v8f thr8 = v8f_splat(thr);
+  const Pose8f T_a_b = Pose8f::from(T_a_b_4);
+  const DistanceGrid& grid = grids_[a];
+  const LinkDistance& la = links_[a];
+  return wide_tree_any(
+      samples_, static_cast<int>(b),
+      [&](const WideNode& n) PORTER_SIMD_LAMBDA {
+        v8f x, y, z;
+        T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
+        return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
+      },
+      [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
+        v8f x, y, z;
+        T_a_b.apply(v8f_load(blk.x), v8f_load(blk.y), v8f_load(blk.z), &x, &y, &z);
+        std::uint32_t m = ~grid.clear_of8(x, y, z, thr8) & 0xffu;
+        while (m != 0) {
+          const int i = __builtin_ctz(m);
+          m &= m - 1;
+          if (la.within(Eigen::Vector3f(x[i], y[i], z[i]), thr)) return true;
+        }
+        return false;
+      });
+}
+
 PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses& poses) const {
   CollisionResult result;
-  const float thr = threshold_m_;
   // 1. Bounding spheres of the links in the base frame (lane k = link k), eight pairs per test:
   //    bit p of `close` = pair p's spheres are within the threshold.
   v4f rows[8];
@@ -169,41 +206,62 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
   open &= close;
   // 3. The remaining pairs in pair order: b's sample tree below the root against a's grid, then
   //    the exact distance for points the grid does not clear.
-  const v8f thr8 = v8f_splat(thr);
   while (open != 0) {
     const auto p = static_cast<std::size_t>(__builtin_ctz(open));
     open &= open - 1;
-    const auto& pr = pairs_[p];
-    const auto a = static_cast<std::size_t>(pr[0]), b = static_cast<std::size_t>(pr[1]);
-    const Pose8f T_a_b = Pose8f::from(a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b]);
-    const DistanceGrid& grid = grids_[a];
-    const LinkDistance& la = links_[a];
-    const bool hit = wide_tree_any(
-        samples_, static_cast<int>(b),
-        [&](const WideNode& n) PORTER_SIMD_LAMBDA {
-          v8f x, y, z;
-          T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
-          return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
-        },
-        [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
-          v8f x, y, z;
-          T_a_b.apply(v8f_load(blk.x), v8f_load(blk.y), v8f_load(blk.z), &x, &y, &z);
-          std::uint32_t m = ~grid.clear_of8(x, y, z, thr8) & 0xffu;
-          while (m != 0) {
-            const int i = __builtin_ctz(m);
-            m &= m - 1;
-            if (la.within(Eigen::Vector3f(x[i], y[i], z[i]), thr)) return true;
-          }
-          return false;
-        });
-    if (hit) {
-      result.in_collision = true;
-      result.link = std::min(pr[0], pr[1]);
-      result.other_link = std::max(pr[0], pr[1]);
-      return result;
-    }
+    const auto a = static_cast<std::size_t>(pairs_[p][0]), b = static_cast<std::size_t>(pairs_[p][1]);
+    if (pair_hit(p, a == 0 ? poses.T_B_L[b] : T_L_B[a] * poses.T_B_L[b])) return pair_result(p);
   }
   return result;
+}
+
+PORTER_KERNEL_CLONES void SelfCollisionChecker::check_lanes(const ArmPoseLanes& poses, std::uint32_t lanes,
+                                                            CollisionResult* results) const {
+  // 1. Bounding spheres: close[p] = lanes in which pair p's spheres are within the threshold.
+  std::array<v8f, kNumLinks> Cx, Cy, Cz;
+  for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k)
+    poses.T_B_L[k].apply(v8f_splat(sphere_centre_[k].x()), v8f_splat(sphere_centre_[k].y()),
+                         v8f_splat(sphere_centre_[k].z()), &Cx[k], &Cy[k], &Cz[k]);
+  std::array<std::uint32_t, 8> open{};  // per lane: bit p = pair p's root sphere is not proven clear
+  std::array<bool, kNumLinks> have_root{};
+  std::array<v8f, kNumLinks> Rx, Ry, Rz;
+  const float thr = threshold_m_;
+  for (std::size_t p = 0; p < pairs_.size(); ++p) {
+    const auto a = static_cast<std::size_t>(pairs_[p][0]), b = static_cast<std::size_t>(pairs_[p][1]);
+    const v8f dx = Cx[a] - Cx[b], dy = Cy[a] - Cy[b], dz = Cz[a] - Cz[b];
+    const std::uint32_t close =
+        ~lane_mask(dx * dx + dy * dy + dz * dz > v8f_splat(pair_lanes_[p / 8].reach2[p % 8])) & lanes;
+    if (close == 0) continue;
+    // 2. b's root sphere in a's frame against a's grid.
+    const WideTreeRoot& root = samples_.root(static_cast<int>(b));
+    if (!have_root[b]) {
+      poses.T_B_L[b].apply(v8f_splat(root.cx), v8f_splat(root.cy), v8f_splat(root.cz), &Rx[b], &Ry[b], &Rz[b]);
+      have_root[b] = true;
+    }
+    v8f x = Rx[b], y = Ry[b], z = Rz[b];
+    if (a != 0) poses.T_B_L[a].apply_inverse(x, y, z, &x, &y, &z);  // T_B_L[0] is the identity
+    std::uint32_t m = ~grids_[a].clear_of8(x, y, z, v8f_splat(root.radius_m + thr)) & close;
+    while (m != 0) {
+      open[static_cast<std::size_t>(__builtin_ctz(m))] |= 1u << p;
+      m &= m - 1;
+    }
+  }
+  // 3. Per lane, the remaining pairs in pair order, as in check().
+  for (std::uint32_t l = lanes; l != 0; l &= l - 1) {
+    const int i = __builtin_ctz(l);
+    std::uint32_t o = open[static_cast<std::size_t>(i)];
+    results[i] = CollisionResult{};
+    while (o != 0) {
+      const auto p = static_cast<std::size_t>(__builtin_ctz(o));
+      o &= o - 1;
+      const auto a = static_cast<std::size_t>(pairs_[p][0]), b = static_cast<std::size_t>(pairs_[p][1]);
+      const Pose4f T_B_b = poses.T_B_L[b].lane(i);
+      if (pair_hit(p, a == 0 ? T_B_b : poses.T_B_L[a].lane(i).inverse() * T_B_b)) {
+        results[i] = pair_result(p);
+        break;
+      }
+    }
+  }
 }
 
 std::size_t SelfCollisionChecker::bytes() const {

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 
@@ -60,6 +61,43 @@ TEST(KernelKinematics, MatchesCoreForwardKinematics) {
                     .cwiseAbs()
                     .maxCoeff(),
                 2e-6);
+    }
+  }
+}
+
+// Eight configurations per pass, one per lane, against compute() one at a time; the second model
+// turns two joints about general axes (not +-z) so the per-lane Rodrigues path runs too.
+TEST(KernelKinematics, LanesMatchOneConfigurationAtATime) {
+  RobotModel general = test::shipped_robot_with("t_bar");
+  general.joints[1].axis = Eigen::Vector3d(1.0, 2.0, 0.5).normalized();
+  general.joints[4].axis = Eigen::Vector3d(0.0, -1.0, 0.0);
+  for (const RobotModel& model : {test::shipped_robot_with("t_bar"), general}) {
+    const KernelKinematics kin(model);
+    std::mt19937_64 rng(8);
+    for (int trial = 0; trial < 300; ++trial) {
+      std::array<JointVector, 8> q;
+      std::array<const JointVector*, 8> qp{};
+      for (int i = 0; i < 8; ++i) {
+        q[static_cast<std::size_t>(i)] = test::random_joints(model, rng);
+        qp[static_cast<std::size_t>(i)] = &q[static_cast<std::size_t>(i)];
+      }
+      ArmPoseLanes lanes;
+      kin.compute_lanes(qp, lanes);
+      for (int i = 0; i < 8; ++i) {
+        ArmPoses one;
+        kin.compute(q[static_cast<std::size_t>(i)], one);
+        const ArmPoses got = lanes.lane(i);
+        RobotConfiguration c;
+        c.q_rad = q[static_cast<std::size_t>(i)];
+        KinematicsWorkspace ws;
+        forward_kinematics(model, c, ws);
+        for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k) {
+          ASSERT_LT((got.T_B_L[k].isometry().matrix() - one.T_B_L[k].isometry().matrix()).cwiseAbs().maxCoeff(), 2e-6)
+              << "trial " << trial << " lane " << i << " link " << k;
+          ASSERT_LT((got.T_B_J[k].isometry().matrix() - one.T_B_J[k].isometry().matrix()).cwiseAbs().maxCoeff(), 2e-6);
+          ASSERT_LT((got.T_B_L[k].isometry().matrix() - ws.T_W_L[k].matrix()).cwiseAbs().maxCoeff(), 2e-6);
+        }
+      }
     }
   }
 }

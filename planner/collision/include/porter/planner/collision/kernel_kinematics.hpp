@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <cstring>
 
@@ -101,6 +102,21 @@ struct ArmPoses {
   std::array<Pose4f, kNumLinks> T_B_L;
 };
 
+/// ArmPoses of eight configurations, one per lane (PoseLanes): the poses of a batch.
+struct ArmPoseLanes {
+  std::array<PoseLanes, kNumLinks> T_B_J;
+  std::array<PoseLanes, kNumLinks> T_B_L;
+  /// Configuration i's poses.
+  ArmPoses lane(int i) const {
+    ArmPoses p;
+    for (std::size_t k = 0; k < static_cast<std::size_t>(kNumLinks); ++k) {
+      p.T_B_J[k] = T_B_J[k].lane(i);
+      p.T_B_L[k] = T_B_L[k].lane(i);
+    }
+    return p;
+  }
+};
+
 class KernelKinematics {
  public:
   KernelKinematics() = default;
@@ -108,6 +124,9 @@ class KernelKinematics {
   /// Same result as porter::arm_forward_kinematics to float rounding (< 1e-6 m for arm-sized
   /// chains), no heap allocation.
   void compute(const JointVector& q_rad, ArmPoses& poses) const;
+  /// compute() of eight configurations at once, configuration i in lane i (same operations per
+  /// lane; results agree with compute() to float rounding).
+  void compute_lanes(const std::array<const JointVector*, 8>& q_rad, ArmPoseLanes& poses) const;
 
  private:
   /// A fixed transform, with the shape of its rotation recorded so that composing with it costs
@@ -134,6 +153,29 @@ class KernelKinematics {
       r.c1 = *cols[column[1]] * v4f_splat(sign[1]);
       r.c2 = *cols[column[2]] * v4f_splat(sign[2]);
       return r;
+    }
+    /// out = parent * T, lane by lane (out must not alias parent).
+    PORTER_SIMD_INLINE void after(const PoseLanes& parent, PoseLanes& out) const {
+      if (kind == Kind::kGeneral) {
+        PoseLanes fixed;
+        fixed.set_all(T);
+        PoseLanes::compose(parent, fixed, out);
+        return;
+      }
+#pragma GCC unroll 3
+      for (int i = 0; i < 3; ++i) {
+        out.t[i] = parent.r[i][0] * v8f_splat(T.t[0]) + parent.r[i][1] * v8f_splat(T.t[1]) +
+                   parent.r[i][2] * v8f_splat(T.t[2]) + parent.t[i];
+#pragma GCC unroll 3
+        for (int j = 0; j < 3; ++j) {
+          if (kind == Kind::kTranslation) {
+            out.r[i][j] = parent.r[i][j];
+          } else {
+            const v8f& col = parent.r[i][column[static_cast<std::size_t>(j)]];
+            out.r[i][j] = sign[static_cast<std::size_t>(j)] > 0.f ? col : -col;
+          }
+        }
+      }
     }
   };
 

@@ -38,6 +38,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "porter/core/robot_model.hpp"
@@ -72,6 +73,10 @@ class SelfCollisionChecker {
 
   /// First non-allowed pair found touching: link = a, other_link = b (a < b).
   CollisionResult check(const ArmPoses& poses) const;
+  /// check() of the configurations in the lanes of `poses` whose bit is set in `lanes`: results[i]
+  /// for lane i, the others untouched. The bounding-sphere and root-sphere tests run for eight
+  /// configurations at a time (one per lane), the tree walks per configuration.
+  void check_lanes(const ArmPoseLanes& poses, std::uint32_t lanes, CollisionResult* results) const;
 
   PairStatus pair_status(int a, int b) const {
     return status_[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)];
@@ -92,6 +97,9 @@ class SelfCollisionChecker {
 
  private:
   bool prove_separated(const RobotModel& model, int a, int b) const;
+  /// Pair p (index into pairs_) touches, given b's frame in a's frame: the walk below the root.
+  bool pair_hit(std::size_t p, const Pose4f& T_a_b) const;
+  CollisionResult pair_result(std::size_t p) const;
 
   SelfCollisionSettings settings_;
   std::array<LinkDistance, kNumLinks> links_;

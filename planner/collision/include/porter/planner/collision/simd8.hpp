@@ -129,4 +129,78 @@ struct Pose8f {
   }
 };
 
+/// Eight rigid transforms, one per lane: lane i of every entry belongs to transform i. The
+/// poses of eight configurations checked together (KernelCollisionChecker::check_batch): what
+/// Pose4f does for one configuration, one eight-lane operation does for eight. The operations
+/// write into an output (which must not alias an input) rather than return: GCC copies a
+/// returned 384-byte struct with a loop.
+struct PoseLanes {
+  v8f r[3][3];  ///< rotation, r[row][column]
+  v8f t[3];     ///< translation
+
+  /// The same transform in every lane.
+  PORTER_SIMD_INLINE void set_all(const Pose4f& T) {
+    const v4f* cols[3] = {&T.c0, &T.c1, &T.c2};
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) r[i][j] = v8f_splat((*cols[j])[i]);
+      t[i] = v8f_splat(T.t[i]);
+    }
+  }
+  /// Lane i as a Pose4f.
+  PORTER_SIMD_INLINE Pose4f lane(int i) const {
+    Pose4f p;
+    p.c0 = v4f{r[0][0][i], r[1][0][i], r[2][0][i], 0.f};
+    p.c1 = v4f{r[0][1][i], r[1][1][i], r[2][1][i], 0.f};
+    p.c2 = v4f{r[0][2][i], r[1][2][i], r[2][2][i], 0.f};
+    p.t = v4f{t[0][i], t[1][i], t[2][i], 0.f};
+    return p;
+  }
+  PORTER_SIMD_INLINE void set_lane(int i, const Pose4f& T) {
+    const v4f* cols[3] = {&T.c0, &T.c1, &T.c2};
+#pragma GCC unroll 3
+    for (int a = 0; a < 3; ++a) {
+#pragma GCC unroll 3
+      for (int b = 0; b < 3; ++b) r[a][b][i] = (*cols[b])[a];
+      t[a][i] = T.t[a];
+    }
+  }
+  /// R p + t per lane; the outputs may alias the inputs.
+  PORTER_SIMD_INLINE void apply(const v8f& x, const v8f& y, const v8f& z, v8f* ox, v8f* oy, v8f* oz) const {
+    const v8f X = r[0][0] * x + r[0][1] * y + r[0][2] * z + t[0];
+    const v8f Y = r[1][0] * x + r[1][1] * y + r[1][2] * z + t[1];
+    *oz = r[2][0] * x + r[2][1] * y + r[2][2] * z + t[2];
+    *ox = X;
+    *oy = Y;
+  }
+  /// R^T (p - t) per lane (the inverse transform); the outputs may alias the inputs.
+  PORTER_SIMD_INLINE void apply_inverse(const v8f& x, const v8f& y, const v8f& z, v8f* ox, v8f* oy, v8f* oz) const {
+    const v8f dx = x - t[0], dy = y - t[1], dz = z - t[2];
+    *ox = r[0][0] * dx + r[1][0] * dy + r[2][0] * dz;
+    *oy = r[0][1] * dx + r[1][1] * dy + r[2][1] * dz;
+    *oz = r[0][2] * dx + r[1][2] * dy + r[2][2] * dz;
+  }
+  /// out = a * b, lane by lane.
+  PORTER_SIMD_INLINE static void compose(const PoseLanes& a, const PoseLanes& b, PoseLanes& out) {
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
+      for (int j = 0; j < 3; ++j) out.r[i][j] = a.r[i][0] * b.r[0][j] + a.r[i][1] * b.r[1][j] + a.r[i][2] * b.r[2][j];
+      out.t[i] = a.r[i][0] * b.t[0] + a.r[i][1] * b.t[1] + a.r[i][2] * b.t[2] + a.t[i];
+    }
+  }
+  /// out = a * Rz, Rz the rotation about a's own z axis by (c, s) per lane (columns 0 and 1 mix,
+  /// as Pose4f::rotated_z).
+  PORTER_SIMD_INLINE static void rotated_z(const PoseLanes& a, const v8f& c, const v8f& s, PoseLanes& out) {
+#pragma GCC unroll 3
+    for (int i = 0; i < 3; ++i) {
+      out.r[i][0] = a.r[i][0] * c + a.r[i][1] * s;
+      out.r[i][1] = a.r[i][1] * c - a.r[i][0] * s;
+      out.r[i][2] = a.r[i][2];
+      out.t[i] = a.t[i];
+    }
+  }
+};
+
 }  // namespace porter::planner
