@@ -42,8 +42,11 @@ TEST(KernelCheckerNoAlloc, QueriesDoNotAllocate) {
   piece.coeffs = quintic_hermite(p0, v, v, p1, v, v, 4.0);
   const TrajectoryResult traj = Trajectory::create({piece}, 0.0);
   ASSERT_TRUE(traj.ok());
+  std::vector<CollisionResult> results(configs.size());
   int sink = 0;
   const long before = g_allocations.load();
+  checker.check_batch(configs.data(), configs.size(), results.data());
+  for (const CollisionResult& r : results) sink += r.in_collision;
   for (std::size_t i = 0; i + 1 < configs.size(); ++i) {
     sink += checker.check(configs[i]).in_collision;
     sink += checker.check_base(configs[i].base).in_collision;
