@@ -15,9 +15,11 @@
 // each in two orders: "scattered" (independent uniform draws over the whole map, cold caches)
 // and "local" (64 configurations around each base pose drawn, as a search expanding one node or
 // an arm layer at one base waypoint sees them).
-// Columns: whole-body check() (environment + self-collision), then its environment part and its
-// self-collision part alone (each including forward kinematics), forward kinematics alone, FCL on
-// the first 2000 of the set.
+// Columns: whole-body check() (environment + self-collision), the same set through check_batch()
+// (eight configurations per pass, one per lane; what motion and trajectory checks use), then
+// check()'s environment part and self-collision part alone (each including forward kinematics),
+// forward kinematics alone, FCL on the first 2000 of the set; the ratios are kernel checks per
+// second over FCL checks per second, for check() and (last column) for check_batch().
 // FCL: every link as one BVH (OBBRSS) mesh plus the non-allowed link pairs, against two obstacle
 // models: "FCL exact" = the scene's exact obstacles as meshes in a dynamic AABB tree (FCL's best
 // case: a handful of primitives), "FCL map" = an fcl::OcTree of the same occupancy grid the
@@ -139,12 +141,17 @@ void bench_scene(const std::string& name, bool quick) {
   test::FclWorld fcl(model, scene.obstacles);
   test::FclWorld fcl_map(model, grid);
   const int fcl_count = quick ? 200 : 2000;
-  std::printf("%-20s %11s %9s %7s %7s %6s %11s %6s %11s %6s\n", "set", "checks/s", "ns/check", "env ns", "self ns",
-              "FK ns", "FCL exact/s", "ratio", "FCL map/s", "ratio");
+  std::printf("%-20s %9s %7s %9s %7s %6s %6s %5s %11s %5s %10s %5s %5s\n", "set", "check/s", "ns", "batch/s", "ns",
+              "env ns", "self", "FK", "FCL exact/s", "ratio", "FCL map/s", "ratio", "batch");
   auto run = [&](const char* label, const std::vector<RobotConfiguration>& v) {
     int sink = 0;
     const double tk = best_time(5, [&] {
       for (const auto& c : v) sink += checker.check(c).in_collision;
+    });
+    std::vector<CollisionResult> results(v.size());
+    const double tb = best_time(5, [&] {
+      checker.check_batch(v.data(), v.size(), results.data());
+      for (const CollisionResult& r : results) sink += r.in_collision;
     });
     const double te = best_time(5, [&] {
       for (const auto& c : v) sink += checker.check_environment(c).in_collision;
@@ -167,11 +174,11 @@ void bench_scene(const std::string& name, bool quick) {
       for (const auto& c : sub) sink += fcl_map.in_collision(c);
     });
     const double n = static_cast<double>(v.size());
-    const double kernel_rate = n / tk, fcl_rate = static_cast<double>(sub.size()) / tf;
+    const double kernel_rate = n / tk, batch_rate = n / tb, fcl_rate = static_cast<double>(sub.size()) / tf;
     const double map_rate = static_cast<double>(sub.size()) / tm;
-    std::printf("%-20s %11.3g %9.1f %7.1f %7.1f %6.1f %11.3g %5.0fx %11.3g %5.0fx%s\n", label, kernel_rate,
-                1e9 * tk / n, 1e9 * te / n, 1e9 * ts / n, 1e9 * tq / n, fcl_rate, kernel_rate / fcl_rate, map_rate,
-                kernel_rate / map_rate, sink < 0 ? "!" : "");
+    std::printf("%-20s %9.3g %7.1f %9.3g %7.1f %6.1f %6.1f %5.1f %11.3g %4.0fx %10.3g %4.0fx %4.0fx%s\n", label,
+                kernel_rate, 1e9 * tk / n, batch_rate, 1e9 * tb / n, 1e9 * te / n, 1e9 * ts / n, 1e9 * tq / n, fcl_rate,
+                kernel_rate / fcl_rate, map_rate, kernel_rate / map_rate, batch_rate / map_rate, sink < 0 ? "!" : "");
   };
   run("free-near scattered", sets.free_scattered);
   run("free-near local", sets.free_local);
