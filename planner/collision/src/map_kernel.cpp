@@ -261,7 +261,7 @@ bool MapKernel::in_core(int x, int y, int z) const {
 
 std::size_t MapKernel::bytes() const {
   return (occ_.size() + base_.size() + arm_.size() + core_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
-         sat_.size() * sizeof(std::int32_t) + clearance_.size();
+         sat_.size() * sizeof(std::uint16_t) + clearance_.size();
 }
 
 }  // namespace porter::planner

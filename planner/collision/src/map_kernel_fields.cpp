@@ -21,10 +21,11 @@ void MapKernel::rebuild_projection() {
       const std::uint64_t* b = &base_[static_cast<std::size_t>(row(y, z) * W)];
       for (std::int64_t w = 0; w < W; ++w) proj[static_cast<std::size_t>(w)] |= b[w];
     }
-    std::int32_t run = 0;
+    std::uint16_t run = 0;  // modulo 2^16, like the table
     for (int x = 0; x < dims_.x(); ++x) {
-      run += static_cast<std::int32_t>((proj[static_cast<std::size_t>(x >> 6)] >> (x & 63)) & 1u);
-      sat_[static_cast<std::size_t>((x + 1) + sx * (y + 1))] = sat_[static_cast<std::size_t>((x + 1) + sx * y)] + run;
+      run = static_cast<std::uint16_t>(run + ((proj[static_cast<std::size_t>(x >> 6)] >> (x & 63)) & 1u));
+      sat_[static_cast<std::size_t>((x + 1) + sx * (y + 1))] =
+          static_cast<std::uint16_t>(sat_[static_cast<std::size_t>((x + 1) + sx * y)] + run);
     }
   }
 }
