@@ -159,3 +159,41 @@ TEST(CheckerBatchCases, SelfCollisionLanesWriteOnlyTheLanesAskedFor) {
 
 }  // namespace
 }  // namespace porter::planner
+
+namespace porter::planner {
+namespace {
+
+// The interface's default batch checks one configuration at a time, in order.
+class CountingChecker final : public CollisionChecker {
+ public:
+  void set_map(const OccupancyGrid&) override {}
+  CollisionResult check(const RobotConfiguration& c) const override {
+    ++calls;
+    CollisionResult r;
+    r.in_collision = c.base.x_m > 0.0;
+    r.link = r.in_collision ? static_cast<int>(c.base.x_m) : -1;
+    return r;
+  }
+  CollisionResult check_base(const BasePose&) const override { return {}; }
+  CollisionResult check_motion(const RobotConfiguration&, const RobotConfiguration&) const override { return {}; }
+  CollisionResult check_trajectory(const Trajectory&) const override { return {}; }
+  std::string name() const override { return "counting"; }
+  mutable int calls = 0;
+};
+
+TEST(CheckerBatchCases, InterfaceDefaultChecksEachConfiguration) {
+  CountingChecker counting;
+  std::vector<RobotConfiguration> configs(11);
+  for (std::size_t i = 0; i < configs.size(); ++i) configs[i].base.x_m = static_cast<double>(i % 3);
+  std::vector<CollisionResult> out(configs.size());
+  const CollisionChecker& checker = counting;
+  checker.check_batch(configs.data(), configs.size(), out.data());
+  EXPECT_EQ(counting.calls, 11);
+  for (std::size_t i = 0; i < configs.size(); ++i) {
+    EXPECT_EQ(out[i].in_collision, i % 3 != 0);
+    EXPECT_EQ(out[i].link, i % 3 != 0 ? static_cast<int>(i % 3) : -1);
+  }
+}
+
+}  // namespace
+}  // namespace porter::planner

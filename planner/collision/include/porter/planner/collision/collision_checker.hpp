@@ -14,6 +14,7 @@
 // Thread-safety: const member functions may be called concurrently from several threads once
 // the map is set; set_map() needs exclusive access.
 
+#include <cstddef>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -43,6 +44,12 @@ class CollisionChecker {
 
   /// Whole-body check of one configuration (environment + self + ground).
   virtual CollisionResult check(const RobotConfiguration& config) const = 0;
+
+  /// results[i] = check(configs[i]) for i < count. Implementations may check several
+  /// configurations per pass (the kernel checker does eight); this default checks one at a time.
+  virtual void check_batch(const RobotConfiguration* configs, std::size_t count, CollisionResult* results) const {
+    for (std::size_t i = 0; i < count; ++i) results[i] = check(configs[i]);
+  }
 
   /// Base-only environment check (front-end's Hybrid A* expansion).
   virtual CollisionResult check_base(const BasePose& base) const = 0;

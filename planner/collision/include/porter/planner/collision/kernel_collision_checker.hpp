@@ -97,7 +97,7 @@ class KernelCollisionChecker final : public CollisionChecker {
   /// kinematics, the links' root spheres and the self-collision sphere tests run in eight-lane
   /// operations with one configuration per lane; the tree walks run per configuration. Faster
   /// than count check() calls when the configurations are free (see the header comment).
-  void check_batch(const RobotConfiguration* configs, std::size_t count, CollisionResult* results) const;
+  void check_batch(const RobotConfiguration* configs, std::size_t count, CollisionResult* results) const override;
   std::string name() const override { return "kernels"; }
 
   /// Environment part of check() (no self-collision).
