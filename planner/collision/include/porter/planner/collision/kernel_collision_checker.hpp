@@ -42,8 +42,8 @@
 // Speed (tests/bench/bench_collision.cpp, porter-bench-collision; README): free configurations
 // close to obstacles take ~0.45-0.65 us per check() and ~0.33-0.5 us per configuration in
 // check_batch(); colliding ones ~0.22-0.35 us either way (AVX2 clones; the payload's tree walk
-// and the self-collision part dominate, then cache misses in the map kernel); no heap allocation in check(), check_batch(), check_base(),
-// check_motion(), check_trajectory().
+// and the self-collision part dominate, then cache misses in the map kernel); no heap
+// allocation in check(), check_batch(), check_base(), check_motion(), check_trajectory().
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs
 // exclusive access.
 
