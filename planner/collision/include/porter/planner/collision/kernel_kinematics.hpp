@@ -157,9 +157,16 @@ class KernelKinematics {
     /// out = parent * T, lane by lane (out must not alias parent).
     PORTER_SIMD_INLINE void after(const PoseLanes& parent, PoseLanes& out) const {
       if (kind == Kind::kGeneral) {
-        PoseLanes fixed;
-        fixed.set_all(T);
-        PoseLanes::compose(parent, fixed, out);
+        const v4f* cols[3] = {&T.c0, &T.c1, &T.c2};
+#pragma GCC unroll 3
+        for (int i = 0; i < 3; ++i) {
+#pragma GCC unroll 3
+          for (int j = 0; j < 3; ++j)
+            out.r[i][j] = parent.r[i][0] * v8f_splat((*cols[j])[0]) + parent.r[i][1] * v8f_splat((*cols[j])[1]) +
+                          parent.r[i][2] * v8f_splat((*cols[j])[2]);
+          out.t[i] = parent.r[i][0] * v8f_splat(T.t[0]) + parent.r[i][1] * v8f_splat(T.t[1]) +
+                     parent.r[i][2] * v8f_splat(T.t[2]) + parent.t[i];
+        }
         return;
       }
 #pragma GCC unroll 3
