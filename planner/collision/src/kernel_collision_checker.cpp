@@ -17,6 +17,9 @@ CollisionResult hit(int link, int other = -1) {
   return r;
 }
 
+/// Joint values of the lanes a batch leaves unused (any valid values would do).
+const JointVector kRestJoints = JointVector::Zero();
+
 /// Link order of the environment check: payload first, then down the chain.
 constexpr int kArmOrder[] = {7, 6, 5, 4, 3, 2, 1};
 
@@ -99,7 +102,7 @@ PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample,
   const WidePointTreePool& pool = kernels_.link_pool(link);
   const float reach2 = kernel_reach2_vox_[static_cast<std::size_t>(link)];
   const float reach_units = kernel_reach_units_[static_cast<std::size_t>(link)];
-  const Pose8f T_V_J = Pose8f::from(T_V_B * T_B_J);
+  const PoseLanes T_V_J = PoseLanes::splat(T_V_B * T_B_J);
   const v8f scale8 = v8f_splat(scale), reach8 = v8f_splat(reach_units);
   return wide_tree_any(
       pool, sample,
@@ -122,35 +125,42 @@ PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample,
       });
 }
 
-PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration& config, bool environment,
-                                                       bool self) const {
-  if (!map_.has_map() && environment) return hit(0);
-  std::array<int, kNumLinks> sample{};  // nearest kernel sample per arm joint (index = link)
+// The tests before any kinematics, in check()'s order: a map is set, every joint has a kernel
+// sample, the base origin is on the map, the base kernel is clear. Inlined into check_prepared()
+// and check_lanes(), which run them for one configuration each.
+PORTER_SIMD_INLINE int KernelCollisionChecker::first_tests(const RobotConfiguration& config,
+                                                           std::array<int, kNumLinks>& sample, double* ux,
+                                                           double* uy) const {
+  if (!map_.has_map()) return 0;
   for (int j = 1; j <= kNumArmJoints; ++j) {
     sample[static_cast<std::size_t>(j)] = kernels_.joint_sample(j, config.q_rad[j - 1]);
-    if (sample[static_cast<std::size_t>(j)] < 0) return hit(j);
+    if (sample[static_cast<std::size_t>(j)] < 0) return j;
   }
-  double ux = 0.0, uy = 0.0;  // base origin, padded voxel coordinates
-  if (environment) {
-    if (!base_voxel(config.base, &ux, &uy)) return hit(0);
-    if (base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(config.base.yaw_rad))) return hit(0);
-  }
+  if (!base_voxel(config.base, ux, uy)) return 0;
+  if (base_hit(static_cast<int>(*ux), static_cast<int>(*uy), kernels_.base_sample(config.base.yaw_rad))) return 0;
+  return -1;
+}
+
+PORTER_KERNEL_CLONES CollisionResult KernelCollisionChecker::check_prepared(const RobotConfiguration& config,
+                                                                            bool self) const {
+  std::array<int, kNumLinks> sample{};  // nearest kernel sample per arm joint (index = link)
+  double ux = 0.0, uy = 0.0;            // base origin, padded voxel coordinates
+  const int first = first_tests(config, sample, &ux, &uy);
+  if (first >= 0) return hit(first);
   ArmPoses poses;
   kinematics_.compute(config.q_rad, poses);
-  if (environment) {
-    const Pose4f T_V_B = base_to_voxels(config.base.yaw_rad, ux, uy);
-    const std::uint32_t near = links_near(sample, T_V_B, poses);
-    for (int link : kArmOrder) {
-      const auto l = static_cast<std::size_t>(link);
-      if (((near >> link) & 1u) && link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
-    }
+  const Pose4f T_V_B = base_to_voxels(config.base.yaw_rad, ux, uy);
+  const std::uint32_t near = links_near(sample, T_V_B, poses);
+  for (int link : kArmOrder) {
+    const auto l = static_cast<std::size_t>(link);
+    if (((near >> link) & 1u) && link_hit(link, sample[l], T_V_B, poses.T_B_J[l])) return hit(link);
   }
   if (self && settings_.check_self_collision) return self_.check(poses);
   return CollisionResult{};
 }
 
 CollisionResult KernelCollisionChecker::check(const RobotConfiguration& config) const {
-  return check_prepared(config, true, true);
+  return check_prepared(config, true);
 }
 
 void KernelCollisionChecker::check_batch(const RobotConfiguration* configs, std::size_t count,
@@ -166,39 +176,21 @@ void KernelCollisionChecker::check_batch(const RobotConfiguration* configs, std:
 // compute on the rest pose and are ignored.
 PORTER_KERNEL_CLONES void KernelCollisionChecker::check_lanes(const RobotConfiguration* configs, int count,
                                                               CollisionResult* results) const {
-  static const JointVector kRest = JointVector::Zero();
   std::array<const JointVector*, 8> q{};
   std::array<std::array<int, kNumLinks>, 8> sample{};
   std::array<Pose4f, 8> T_V_B4;
   std::uint32_t pending = 0;  // lanes not decided yet
   for (int i = 0; i < 8; ++i) {
     const auto li = static_cast<std::size_t>(i);
-    q[li] = &kRest;
+    q[li] = &kRestJoints;
     T_V_B4[li] = Pose4f::identity();
     if (i >= count) continue;
     const RobotConfiguration& config = configs[i];
-    CollisionResult& r = results[i];
-    r = CollisionResult{};
-    if (!map_.has_map()) {
-      r = hit(0);
-      continue;
-    }
     std::array<int, kNumLinks> s{};
-    int bad = 0;
-    for (int j = 1; j <= kNumArmJoints && bad == 0; ++j) {
-      s[static_cast<std::size_t>(j)] = kernels_.joint_sample(j, config.q_rad[j - 1]);
-      if (s[static_cast<std::size_t>(j)] < 0) bad = j;
-    }
-    if (bad != 0) {
-      r = hit(bad);
-      continue;
-    }
     double ux = 0.0, uy = 0.0;
-    if (!base_voxel(config.base, &ux, &uy) ||
-        base_hit(static_cast<int>(ux), static_cast<int>(uy), kernels_.base_sample(config.base.yaw_rad))) {
-      r = hit(0);
-      continue;
-    }
+    const int first = first_tests(config, s, &ux, &uy);
+    results[i] = first >= 0 ? hit(first) : CollisionResult{};
+    if (first >= 0) continue;
     sample[li] = s;
     q[li] = &config.q_rad;
     T_V_B4[li] = base_to_voxels(config.base.yaw_rad, ux, uy);
@@ -246,7 +238,7 @@ PORTER_KERNEL_CLONES void KernelCollisionChecker::check_lanes(const RobotConfigu
 }
 
 CollisionResult KernelCollisionChecker::check_environment(const RobotConfiguration& config) const {
-  return check_prepared(config, true, false);
+  return check_prepared(config, false);
 }
 
 CollisionResult KernelCollisionChecker::check_self(const JointVector& q_rad) const {

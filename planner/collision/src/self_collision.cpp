@@ -128,7 +128,7 @@ PORTER_SIMD_INLINE bool SelfCollisionChecker::pair_hit(std::size_t p, const Pose
   const auto a = static_cast<std::size_t>(pairs_[p][0]), b = static_cast<std::size_t>(pairs_[p][1]);
   const float thr = threshold_m_;
   const v8f thr8 = v8f_splat(thr);
-  const Pose8f T_a_b = Pose8f::from(T_a_b_4);
+  const PoseLanes T_a_b = PoseLanes::splat(T_a_b_4);
   const DistanceGrid& grid = grids_[a];
   const LinkDistance& la = links_[a];
   return wide_tree_any(
@@ -194,7 +194,7 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
       const auto a = static_cast<std::size_t>(g.a);
       if (a != 0) {  // T_B_L[0] is the identity
         T_L_B[a] = poses.T_B_L[a].inverse();
-        Pose8f::from(T_L_B[a]).apply(x, y, z, &x, &y, &z);
+        PoseLanes::splat(T_L_B[a]).apply(x, y, z, &x, &y, &z);
       }
       std::uint32_t m = ~grids_[a].clear_of8(x, y, z, v8f_load(g.need)) & g.lane_bits;
       while (m != 0) {

@@ -139,13 +139,13 @@ TEST(Simd8, Transpose8x4TurnsRowsIntoColumns) {
   }
 }
 
-TEST(Simd8, Pose8fAppliesThePose4fToEveryLaneEvenInPlace) {
+TEST(Simd8, SplatPoseLanesApplyThePose4fToEveryLaneEvenInPlace) {
   std::mt19937_64 rng(4);
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
   T.translation() = Eigen::Vector3d(0.4, -1.2, 2.5);
   const Pose4f P(T);
-  const Pose8f P8 = Pose8f::from(P);
+  const PoseLanes P8 = PoseLanes::splat(P);
   alignas(32) float x[8], y[8], z[8];
   for (int i = 0; i < 8; ++i) {
     x[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
@@ -166,6 +166,53 @@ TEST(Simd8, Pose8fAppliesThePose4fToEveryLaneEvenInPlace) {
     EXPECT_EQ(ix[i], ox[i]);
     EXPECT_EQ(iy[i], oy[i]);
     EXPECT_EQ(iz[i], oz[i]);
+  }
+}
+
+// Eight different poses, one per lane: every operation agrees lane by lane with Pose4f's.
+TEST(Simd8, PoseLanesAgreeWithPose4fLaneByLane) {
+  std::mt19937_64 rng(6);
+  auto random_pose = [&] {
+    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+    const Eigen::Vector3d axis(test::uniform(rng, -1, 1), test::uniform(rng, -1, 1), test::uniform(rng, -1, 1));
+    T.linear() = Eigen::AngleAxisd(test::uniform(rng, -3, 3), axis.normalized()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(test::uniform(rng, -2, 2), test::uniform(rng, -2, 2), test::uniform(rng, -2, 2));
+    return Pose4f(T);
+  };
+  Pose4f A[8], B[8];
+  PoseLanes a, b;
+  alignas(32) float x[8], y[8], z[8], c[8], s[8];
+  for (int i = 0; i < 8; ++i) {
+    A[i] = random_pose();
+    B[i] = random_pose();
+    a.set_lane(i, A[i]);
+    b.set_lane(i, B[i]);
+    x[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+    y[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+    z[i] = static_cast<float>(test::uniform(rng, -2.0, 2.0));
+    const double angle = test::uniform(rng, -3.0, 3.0);
+    c[i] = static_cast<float>(std::cos(angle));
+    s[i] = static_cast<float>(std::sin(angle));
+  }
+  PoseLanes ab, az;
+  PoseLanes::compose(a, b, ab);
+  PoseLanes::rotated_z(a, v8f_load(c), v8f_load(s), az);
+  v8f px, py, pz, qx, qy, qz;
+  a.apply(v8f_load(x), v8f_load(y), v8f_load(z), &px, &py, &pz);
+  a.apply_inverse(px, py, pz, &qx, &qy, &qz);
+  for (int i = 0; i < 8; ++i) {
+    const Pose4f got_ab = ab.lane(i), want_ab = A[i] * B[i];
+    const Pose4f got_az = az.lane(i), want_az = A[i].rotated_z(c[i], s[i]);
+    EXPECT_LT((got_ab.isometry().matrix() - want_ab.isometry().matrix()).cwiseAbs().maxCoeff(), 1e-5) << i;
+    EXPECT_LT((got_az.isometry().matrix() - want_az.isometry().matrix()).cwiseAbs().maxCoeff(), 1e-5) << i;
+    EXPECT_EQ(a.lane(i).isometry().matrix(), A[i].isometry().matrix()) << i;  // set_lane / lane round trip
+    const v4f p = A[i].apply(x[i], y[i], z[i]);
+    EXPECT_NEAR(px[i], p[0], 1e-5);
+    EXPECT_NEAR(py[i], p[1], 1e-5);
+    EXPECT_NEAR(pz[i], p[2], 1e-5);
+    EXPECT_NEAR(qx[i], x[i], 1e-5);  // the inverse undoes the pose
+    EXPECT_NEAR(qy[i], y[i], 1e-5);
+    EXPECT_NEAR(qz[i], z[i], 1e-5);
   }
 }
 

@@ -40,8 +40,8 @@
 // order (at most seven samples past it are checked).
 //
 // Speed (tests/bench/bench_collision.cpp, porter-bench-collision; README): free configurations
-// close to obstacles take ~0.45-0.65 us per check() and ~0.33-0.5 us per configuration in
-// check_batch(); colliding ones ~0.22-0.35 us either way (AVX2 clones; the payload's tree walk
+// close to obstacles take ~0.45-0.7 us per check() and ~0.33-0.63 us per configuration in
+// check_batch(); colliding ones ~0.22-0.38 us either way (AVX2 clones; the payload's tree walk
 // and the self-collision part dominate, then cache misses in the map kernel); no heap
 // allocation in check(), check_batch(), check_base(), check_motion(), check_trajectory().
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs
@@ -148,7 +148,12 @@ class KernelCollisionChecker final : public CollisionChecker {
   }
   /// check_batch() of count <= 8 configurations.
   void check_lanes(const RobotConfiguration* configs, int count, CollisionResult* results) const;
-  CollisionResult check_prepared(const RobotConfiguration& config, bool environment, bool self) const;
+  /// The tests before any kinematics (map set, joint samples, base origin and base kernel), in
+  /// check()'s order: the link to report, or -1 with sample and the base origin (padded voxel
+  /// coordinates) filled in.
+  int first_tests(const RobotConfiguration& config, std::array<int, kNumLinks>& sample, double* ux, double* uy) const;
+  /// check() (self = true) or check_environment() (self = false).
+  CollisionResult check_prepared(const RobotConfiguration& config, bool self) const;
 
   KernelCheckerSettings settings_;
   RobotKernels kernels_;

@@ -98,42 +98,11 @@ PORTER_SIMD_INLINE std::uint32_t lane_mask(const v8i& m) {
 PORTER_SIMD_INLINE v8i v8_trunc(const v8f& x) { return __builtin_convertvector(x, v8i); }
 PORTER_SIMD_INLINE v8f v8_float(const v8i& x) { return __builtin_convertvector(x, v8f); }
 
-/// Applies a rigid transform, given as its 12 entries splatted (rows of R, then t), to eight
-/// points: out = R p + t per lane.
-struct Pose8f {
-  v8f r00, r01, r02, r10, r11, r12, r20, r21, r22, t0, t1, t2;
-
-  PORTER_SIMD_INLINE static Pose8f from(const Pose4f& T) {
-    Pose8f p;
-    p.r00 = v8f_splat(T.c0[0]);
-    p.r10 = v8f_splat(T.c0[1]);
-    p.r20 = v8f_splat(T.c0[2]);
-    p.r01 = v8f_splat(T.c1[0]);
-    p.r11 = v8f_splat(T.c1[1]);
-    p.r21 = v8f_splat(T.c1[2]);
-    p.r02 = v8f_splat(T.c2[0]);
-    p.r12 = v8f_splat(T.c2[1]);
-    p.r22 = v8f_splat(T.c2[2]);
-    p.t0 = v8f_splat(T.t[0]);
-    p.t1 = v8f_splat(T.t[1]);
-    p.t2 = v8f_splat(T.t[2]);
-    return p;
-  }
-  /// The outputs may alias the inputs.
-  PORTER_SIMD_INLINE void apply(const v8f& x, const v8f& y, const v8f& z, v8f* ox, v8f* oy, v8f* oz) const {
-    const v8f X = r00 * x + r01 * y + r02 * z + t0;
-    const v8f Y = r10 * x + r11 * y + r12 * z + t1;
-    *oz = r20 * x + r21 * y + r22 * z + t2;
-    *ox = X;
-    *oy = Y;
-  }
-};
-
-/// Eight rigid transforms, one per lane: lane i of every entry belongs to transform i. The
-/// poses of eight configurations checked together (KernelCollisionChecker::check_batch): what
-/// Pose4f does for one configuration, one eight-lane operation does for eight. The operations
-/// write into an output (which must not alias an input) rather than return: GCC copies a
-/// returned 384-byte struct with a loop.
+/// Eight rigid transforms, one per lane: lane i of every entry belongs to transform i. Two uses:
+/// the poses of eight configurations checked together (KernelCollisionChecker::check_batch),
+/// and one pose in every lane (splat()) applied to eight points of a tree node or block. The
+/// operations that build a pose write into an output (which must not alias an input) rather
+/// than return one: GCC copies a returned 384-byte struct into an array element with a loop.
 struct PoseLanes {
   v8f r[3][3];  ///< rotation, r[row][column]
   v8f t[3];     ///< translation
@@ -147,6 +116,12 @@ struct PoseLanes {
       for (int j = 0; j < 3; ++j) r[i][j] = v8f_splat((*cols[j])[i]);
       t[i] = v8f_splat(T.t[i]);
     }
+  }
+  /// T in every lane.
+  PORTER_SIMD_INLINE static PoseLanes splat(const Pose4f& T) {
+    PoseLanes p;
+    p.set_all(T);
+    return p;
   }
   /// Lane i as a Pose4f.
   PORTER_SIMD_INLINE Pose4f lane(int i) const {
