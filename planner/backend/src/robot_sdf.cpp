@@ -6,7 +6,6 @@
 #include <numeric>
 
 #include "porter/backend/task_team.hpp"
-#include "porter/core/geometry.hpp"
 
 namespace porter::backend {
 
@@ -17,8 +16,7 @@ RobotSdf RobotSdf::build(const RobotModel& model, const SdfGridSettings& setting
   // node count the build visits), each participant taking the next one left.
   std::array<double, kNumLinks> work{};
   for (int j = 0; j < kNumLinks; ++j) {
-    Eigen::AlignedBox3d box;
-    for (const CollisionShape& sh : model.links[static_cast<std::size_t>(j)].shapes) box.extend(shape_bounds(sh));
+    const Eigen::AlignedBox3d& box = model.links[static_cast<std::size_t>(j)].bounds;  // ordering only
     if (box.isEmpty() || !box.sizes().allFinite()) continue;
     const double h = choose_sdf_resolution(box, settings);
     work[static_cast<std::size_t>(j)] = (box.sizes().array() / h + 1.0).prod();

@@ -100,14 +100,10 @@ class DistanceGrid {
     const v8f ux = (px - v8f_splat(origin_.x())) * v8f_splat(inv_voxel_);
     const v8f uy = (py - v8f_splat(origin_.y())) * v8f_splat(inv_voxel_);
     const v8f uz = (pz - v8f_splat(origin_.z())) * v8f_splat(inv_voxel_);
-    const v8f one = v8f_splat(1.f), zero = v8f_splat(0.f);
-    const v8i ix = v8_trunc(ux + one) - 1, iy = v8_trunc(uy + one) - 1, iz = v8_trunc(uz + one) - 1;
-    const v8i nx = v8i_splat(dims_.x()), ny = v8i_splat(dims_.y()), nz = v8i_splat(dims_.z());
-    const v8i inside = (ix >= 0) & (ix < nx) & (iy >= 0) & (iy < ny) & (iz >= 0) & (iz < nz);
-    const v8i index = (ix + nx * (iy + ny * iz)) & inside;  // outside lanes read voxel 0, then drop it
-    v8i value;
-    for (int i = 0; i < 8; ++i) value[i] = values_[static_cast<std::uint32_t>(index[i])];
-    const v8i clear_inside = v8_float(value & inside) * v8f_splat(unit_) > distance_m;
+    const v8f zero = v8f_splat(0.f);
+    v8i inside;
+    const v8i value = grid_bytes8(values_.data(), dims_.x(), dims_.y(), dims_.z(), v8_cell(ux), v8_cell(uy), v8_cell(uz), &inside);
+    const v8i clear_inside = v8_float(value) * v8f_splat(unit_) > distance_m;
     // Outside the box: the distance to the box plus the margin.
     const v8f need = distance_m - v8f_splat(margin_);
     const v8f ex = v8f_splat(extent_.x()), ey = v8f_splat(extent_.y()), ez = v8f_splat(extent_.z());

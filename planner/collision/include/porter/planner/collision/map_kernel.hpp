@@ -159,16 +159,10 @@ class MapKernel {
 
   /// clearance_units() of eight points, as floats.
   PORTER_SIMD_INLINE v8f clearance_units8(const v8f& ux, const v8f& uy, const v8f& uz) const {
-    const v8f off = v8f_splat(cell_offset_), inv_cell = v8f_splat(kInvCell), one = v8f_splat(1.f);
-    const v8i cx = v8_trunc((ux - off) * inv_cell + one) - 1;
-    const v8i cy = v8_trunc((uy - off) * inv_cell + one) - 1;
-    const v8i cz = v8_trunc((uz - off) * inv_cell + one) - 1;
-    const v8i nx = v8i_splat(cells_.x()), ny = v8i_splat(cells_.y()), nz = v8i_splat(cells_.z());
-    const v8i inside = (cx >= 0) & (cx < nx) & (cy >= 0) & (cy < ny) & (cz >= 0) & (cz < nz);
-    const v8i index = (cx + nx * (cy + ny * cz)) & inside;  // outside lanes read cell 0, then drop it
-    v8i value;
-    for (int i = 0; i < 8; ++i) value[i] = clearance_[static_cast<std::uint32_t>(index[i])];
-    return v8_float(value & inside);
+    const v8f off = v8f_splat(cell_offset_), inv_cell = v8f_splat(kInvCell);
+    v8i inside;
+    return v8_float(grid_bytes8(clearance_.data(), cells_.x(), cells_.y(), cells_.z(), v8_cell((ux - off) * inv_cell),
+                                v8_cell((uy - off) * inv_cell), v8_cell((uz - off) * inv_cell), &inside));
   }
   /// arm_bit() of eight points at padded voxel coordinates u (truncated to their voxels), as a
   /// lane mask. Precondition: every voxel inside the padded array.

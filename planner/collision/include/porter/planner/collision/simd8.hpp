@@ -98,6 +98,22 @@ PORTER_SIMD_INLINE std::uint32_t lane_mask(const v8i& m) {
 PORTER_SIMD_INLINE v8i v8_trunc(const v8f& x) { return __builtin_convertvector(x, v8i); }
 PORTER_SIMD_INLINE v8f v8_float(const v8i& x) { return __builtin_convertvector(x, v8f); }
 
+/// Cells of eight points in a grid of cells of edge 1 starting at 0 (u = point / cell edge,
+/// grid-relative): floor(u) per lane, exact for u >= -1 (lanes below that are outside anyway).
+PORTER_SIMD_INLINE v8i v8_cell(const v8f& u) { return v8_trunc(u + v8f_splat(1.f)) - 1; }
+
+/// values[x + nx (y + ny z)] of a byte grid of nx x ny x nz cells at eight cells (x, y, z), 0 in
+/// the lanes outside the grid; *inside is -1 in the lanes inside, 0 elsewhere.
+PORTER_SIMD_INLINE v8i grid_bytes8(const std::uint8_t* values, int nx, int ny, int nz, const v8i& x, const v8i& y,
+                                   const v8i& z, v8i* inside) {
+  const v8i Nx = v8i_splat(nx), Ny = v8i_splat(ny), Nz = v8i_splat(nz);
+  *inside = (x >= 0) & (x < Nx) & (y >= 0) & (y < Ny) & (z >= 0) & (z < Nz);
+  const v8i index = (x + Nx * (y + Ny * z)) & *inside;  // outside lanes read cell 0, then drop it
+  v8i value;
+  for (int i = 0; i < 8; ++i) value[i] = values[static_cast<std::uint32_t>(index[i])];
+  return value & *inside;
+}
+
 /// Eight rigid transforms, one per lane: lane i of every entry belongs to transform i. Two uses:
 /// the poses of eight configurations checked together (KernelCollisionChecker::check_batch),
 /// and one pose in every lane (splat()) applied to eight points of a tree node or block. The
