@@ -63,8 +63,9 @@ inline void squared_distance_3d(const std::vector<std::uint8_t>& site, int nx, i
     for (int x = 0; x < nx; ++x) edt_1d(&d2[static_cast<std::size_t>(x + y * sy)], nz, sz, in, v, zb);
 }
 
-/// The 26-neighbourhood dilation of `set` (x fastest), separably.
-inline void dilate26(std::vector<std::uint8_t>& set, int nx, int ny, int nz) {
+/// Separable box dilation of `set` (x fastest): every set cell also sets the cells up to `back`
+/// before and `forward` after it along each axis, a box of (back + 1 + forward)^3 cells.
+inline void dilate_box(std::vector<std::uint8_t>& set, int nx, int ny, int nz, int back, int forward) {
   const int n[3] = {nx, ny, nz};
   const std::int64_t stride[3] = {1, nx, static_cast<std::int64_t>(nx) * ny};
   for (int axis = 0; axis < 3; ++axis) {
@@ -72,11 +73,24 @@ inline void dilate26(std::vector<std::uint8_t>& set, int nx, int ny, int nz) {
     for (std::size_t i = 0; i < set.size(); ++i) {
       if (!set[i]) continue;
       const auto coord = static_cast<int>((static_cast<std::int64_t>(i) / stride[axis]) % n[axis]);
-      if (coord > 0) out[i - static_cast<std::size_t>(stride[axis])] = 1;
-      if (coord + 1 < n[axis]) out[i + static_cast<std::size_t>(stride[axis])] = 1;
+      for (int k = 1; k <= back && coord - k >= 0; ++k) out[i - static_cast<std::size_t>(k * stride[axis])] = 1;
+      for (int k = 1; k <= forward && coord + k < n[axis]; ++k) out[i + static_cast<std::size_t>(k * stride[axis])] = 1;
     }
     set.swap(out);
   }
+}
+
+/// The 26-neighbourhood dilation of `set` (x fastest). After it, the squared distance
+/// transform's value at a cell is the squared smallest gap between that cell's box and a box of
+/// the original set.
+inline void dilate26(std::vector<std::uint8_t>& set, int nx, int ny, int nz) { dilate_box(set, nx, ny, nz, 1, 1); }
+
+/// Every set cell also sets its successor along each axis (2 x 2 x 2 boxes). After it, the
+/// squared distance transform's value at cell i is the squared distance from the lattice vertex
+/// at i (the minimum corner of cell i) to the nearest box of the original set: along one axis,
+/// vertex v is max(w - v, v - (w + 1), 0) from cell w, its distance to the pair {w, w + 1}.
+inline void dilate_to_vertices(std::vector<std::uint8_t>& set, int nx, int ny, int nz) {
+  dilate_box(set, nx, ny, nz, 0, 1);
 }
 
 }  // namespace porter::planner::edt

@@ -68,8 +68,9 @@ PORTER_KERNEL_CLONES bool KernelCollisionChecker::base_hit(int bx, int by, int y
 }
 
 // Clearance units are h / 4: a sphere of kernel points is clear when every point is farther
-// than d_j from the core set, i.e. when its cell's clearance exceeds its radius + d_j (in
-// clearance units, with the same float slack as d_j). T_V_J maps metres to padded voxels.
+// than d_j from the core set, i.e. when the map's clearance bound at its centre exceeds its
+// radius + d_j (MapKernel::clear8(); clearance units, with the same float slack as d_j). T_V_J
+// maps metres to padded voxels.
 PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std::array<int, kNumLinks>& sample,
                                                                       const Pose4f& T_V_B,
                                                                       const ArmPoses& poses) const {
@@ -91,8 +92,7 @@ PORTER_KERNEL_CLONES std::uint32_t KernelCollisionChecker::links_near(const std:
   }
   v8f x, y, z, need;
   transpose8x4(rows, &x, &y, &z, &need);
-  const v8f clearance = map_.clearance_units8(x, y, z);
-  return ~lane_mask(need < clearance) & 0xfeu;
+  return ~map_.clear8(x, y, z, need) & 0xfeu;
 }
 
 PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample, const Pose4f& T_V_B,
@@ -109,8 +109,8 @@ PORTER_KERNEL_CLONES bool KernelCollisionChecker::link_hit(int link, int sample,
       [&](const WideNode& n) PORTER_SIMD_LAMBDA {
         v8f ux, uy, uz;
         T_V_J.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &ux, &uy, &uz);
-        // Open: not proven clear (the negated test, so NaN stays open).
-        return ~lane_mask(v8f_load(n.r) * scale8 + reach8 < map.clearance_units8(ux, uy, uz));
+        // Open: not proven clear (NaN stays open).
+        return ~map.clear8(ux, uy, uz, v8f_load(n.r) * scale8 + reach8);
       },
       [&](const PointBlock& b) PORTER_SIMD_LAMBDA {
         v8f ux, uy, uz;
@@ -220,7 +220,7 @@ PORTER_KERNEL_CLONES void KernelCollisionChecker::check_lanes(const RobotConfigu
     poses.T_B_J[l].apply(x, y, z, &x, &y, &z);
     T_V_B.apply(x, y, z, &x, &y, &z);
     const v8f need = radius * scale + v8f_splat(kernel_reach_units_[l]);
-    near[l] = ~lane_mask(need < map_.clearance_units8(x, y, z)) & pending & ~empty;
+    near[l] = ~map_.clear8(x, y, z, need) & pending & ~empty;
   }
   for (std::uint32_t m = pending; m != 0; m &= m - 1) {
     const int i = __builtin_ctz(m);

@@ -54,22 +54,19 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
         const bool inside = (v.array() >= 0).all() && (v.array() < dims_.array()).all();
         set[local(x, y, z)] = !inside || core_bit(v.x(), v.y(), v.z());
       }
-  // Centre distance to the 26-dilated set = smallest gap between the voxel's box and a set
-  // voxel's box (exact squared distance transform).
-  edt::dilate26(set, n.x(), n.y(), n.z());
+  // Vertex distances: after dilate_to_vertices(), the transform at voxel v is the squared
+  // distance from v's minimum corner to the nearest core voxel's box (edt.hpp). A cell's centre
+  // is the minimum corner of its voxel (kCellVoxels / 2) along each axis.
+  edt::dilate_to_vertices(set, n.x(), n.y(), n.z());
   std::vector<std::int32_t> d2;
   edt::squared_distance_3d(set, n.x(), n.y(), n.z(), d2);
-  // A cell's value: the smallest gap of its voxels, in units of h / 4, rounded down.
+  constexpr int kHalf = kCellVoxels / 2;
   for (int cz = cell_lo.z(); cz <= cell_hi.z(); ++cz)
     for (int cy = cell_lo.y(); cy <= cell_hi.y(); ++cy)
       for (int cx = cell_lo.x(); cx <= cell_hi.x(); ++cx) {
-        std::int32_t q = edt::kFar;
-        for (int k = 0; k < kCellVoxels * kCellVoxels * kCellVoxels; ++k) {
-          const int x = kCellVoxels * cx + k % kCellVoxels - lo.x();
-          const int y = kCellVoxels * cy + (k / kCellVoxels) % kCellVoxels - lo.y();
-          const int z = kCellVoxels * cz + k / (kCellVoxels * kCellVoxels) - lo.z();
-          q = std::min(q, d2[local(x, y, z)]);
-        }
+        const std::int32_t q = d2[local(kCellVoxels * cx + kHalf - lo.x(), kCellVoxels * cy + kHalf - lo.y(),
+                                        kCellVoxels * cz + kHalf - lo.z())];
+        // In units of h / 4, rounded down.
         const double units = 4.0 * std::sqrt(static_cast<double>(q));
         const int value = std::min(cap_units_, static_cast<int>(std::floor(units)));
         clearance_[static_cast<std::size_t>(cx + cells_.x() * (cy + cells_.y() * static_cast<std::int64_t>(cz)))] =

@@ -150,6 +150,26 @@ TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheCoreSet) {
     ASSERT_LE(bound_voxels, 0.8 / 0.1 + 1e-9);
   }
   EXPECT_GT(positive, 100);
+  // At a cell's centre (a lattice vertex) the bound is the exact distance, rounded down to a
+  // quarter voxel and capped, less the float slack.
+  const int P = mk.padding(), C = MapKernel::kCellVoxels;
+  int exact_positive = 0;
+  for (int cz = 0; cz < 8; ++cz)
+    for (int cy = 0; cy < 12; ++cy)
+      for (int cx = 0; cx < 15; ++cx) {
+        const Eigen::Vector3d u(P + C * cx + C / 2, P + C * cy + C / 2, P + C * cz + C / 2);
+        double best2 = 1e18;
+        for (const auto& v : arm) {
+          const Eigen::Vector3d d =
+              (v.cast<double>() - u).cwiseMax(u - v.cast<double>() - Eigen::Vector3d::Ones()).cwiseMax(0.0);
+          best2 = std::min(best2, d.squaredNorm());
+        }
+        const double expected = std::min(std::floor(4.0 * std::sqrt(best2)), std::floor(4.0 * 0.8 / 0.1));
+        const float got = mk.clearance_units(static_cast<float>(u.x()), static_cast<float>(u.y()), static_cast<float>(u.z()));
+        ASSERT_FLOAT_EQ(got + MapKernel::kFloatSlackUnits, static_cast<float>(expected)) << u.transpose();
+        exact_positive += expected > 0;
+      }
+  EXPECT_GT(exact_positive, 100);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <tuple>
 
@@ -224,7 +225,7 @@ TEST(Simd8, MapKernelLaneLookupsMatchTheScalarOnes) {
   MapKernel mk(MapKernelSettings{}, 6, 4);
   mk.set_map(g);
   const Eigen::Vector3i n = mk.padded_dims();
-  int clear_nonzero = 0, arm_set = 0;
+  int clear_nonzero = 0, clear_lanes = 0, arm_set = 0;
   for (int trial = 0; trial < 2000; ++trial) {
     alignas(32) float x[8], y[8], z[8];
     for (int i = 0; i < 8; ++i) {
@@ -234,14 +235,25 @@ TEST(Simd8, MapKernelLaneLookupsMatchTheScalarOnes) {
       y[i] = static_cast<float>(test::uniform(rng, 1.0, n.y() - 1.0));
       z[i] = static_cast<float>(test::uniform(rng, 1.0, n.z() - 1.0));
     }
+    alignas(32) float need[8];
+    for (int i = 0; i < 8; ++i) need[i] = static_cast<float>(test::uniform(rng, 0.0, 30.0));
     const v8f ux = v8f_load(x), uy = v8f_load(y), uz = v8f_load(z);
-    const v8f c = mk.clearance_units8(ux, uy, uz);
+    // clear8() against its scalar reference, except within float rounding of a tie (the lane
+    // test compares squares, the scalar one takes a square root).
+    auto expect_clear8_matches = [&](std::uint32_t clear) {
+      for (int i = 0; i < 8; ++i) {
+        const float c = mk.clearance_units(x[i], y[i], z[i]);
+        if (std::abs(c - need[i]) < 1e-3f) continue;
+        ASSERT_EQ(((clear >> i) & 1u) != 0, need[i] < c) << x[i] << " " << y[i] << " " << z[i] << " need " << need[i];
+        clear_nonzero += c > 0.f;
+        clear_lanes += (clear >> i) & 1u;
+      }
+    };
+    expect_clear8_matches(mk.clear8(ux, uy, uz, v8f_load(need)));
     const std::uint32_t bits = mk.arm_bits8(ux, uy, uz);
     for (int i = 0; i < 8; ++i) {
-      ASSERT_EQ(c[i], static_cast<float>(mk.clearance_units(x[i], y[i], z[i])));
       ASSERT_EQ(((bits >> i) & 1u) != 0,
                 mk.arm_bit(static_cast<int>(x[i]), static_cast<int>(y[i]), static_cast<int>(z[i])));
-      clear_nonzero += c[i] > 0.f;
       arm_set += (bits >> i) & 1u;
     }
     for (int i = 0; i < 8; ++i) {
@@ -249,11 +261,15 @@ TEST(Simd8, MapKernelLaneLookupsMatchTheScalarOnes) {
       y[i] = static_cast<float>(test::uniform(rng, -20.0, n.y() + 20.0));
       z[i] = static_cast<float>(test::uniform(rng, -20.0, n.z() + 20.0));
     }
-    const v8f far = mk.clearance_units8(v8f_load(x), v8f_load(y), v8f_load(z));
-    for (int i = 0; i < 8; ++i) ASSERT_EQ(far[i], static_cast<float>(mk.clearance_units(x[i], y[i], z[i])));
+    expect_clear8_matches(mk.clear8(v8f_load(x), v8f_load(y), v8f_load(z), v8f_load(need)));
   }
   EXPECT_GT(clear_nonzero, 1000);
+  EXPECT_GT(clear_lanes, 1000);
   EXPECT_GT(arm_set, 100);
+  // A NaN coordinate or need is never clear.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const v8f mid = v8f_splat(0.5f * static_cast<float>(n.x()));
+  EXPECT_EQ(mk.clear8(v8f{nan, 10, 10, 10, 10, 10, 10, 10}, mid, mid, v8f{0, 0, nan, 0, 0, 0, 0, 0}) & 5u, 0u);
 }
 
 TEST(Simd8, DistanceGridClearOf8MatchesClearOf) {
