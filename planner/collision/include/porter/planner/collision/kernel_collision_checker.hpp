@@ -40,8 +40,8 @@
 // order (at most seven samples past it are checked).
 //
 // Speed (tests/bench/bench_collision.cpp, porter-bench-collision; README): free configurations
-// close to obstacles take ~0.45-0.7 us per check() and ~0.33-0.63 us per configuration in
-// check_batch(); colliding ones ~0.22-0.38 us either way (AVX2 clones; the payload's tree walk
+// close to obstacles take ~0.42-0.58 us per check() and ~0.30-0.44 us per configuration in
+// check_batch(); colliding ones ~0.23-0.32 us either way (AVX2 clones; the payload's tree walk
 // and the self-collision part dominate, then cache misses in the map kernel); no heap
 // allocation in check(), check_batch(), check_base(), check_motion(), check_trajectory().
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs

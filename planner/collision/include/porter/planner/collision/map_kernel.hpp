@@ -36,7 +36,7 @@
 //     the point's own offset loses that much only at the cell's corners. On 800 free-near forest
 //     configurations the payload tree walk opened 3.0 nodes and 1.7 blocks per check this way,
 //     3.5 and 2.6 with the smallest distance over the cell (and 1.5 and 0.1 with the exact
-//     distance at every sphere centre).
+//     distance at every sphere centre, computed by brute force).
 //
 // Incremental update: set_map() with a grid of the same origin, resolution and size compares it
 // with the current one and recomputes only the rows and cells within reach of the changed voxels
