@@ -30,7 +30,7 @@ KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const Ke
       kernels_(model, settings.kernels),
       kinematics_(model),
       self_(model, settings.self),
-      map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers()),
+      map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers(), kernels_.base_reach2()),
       motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {
   clearance_units_per_m_ = static_cast<float>(4.0 / kernels_.resolution_m());
   // d_j in voxels, squared, grown by 1e-4 voxel for float32 rounding (robot_kernels.hpp).
@@ -50,6 +50,10 @@ void KernelCollisionChecker::set_map(const OccupancyGrid& occupancy_W) {
 }
 
 PORTER_KERNEL_CLONES bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
+  // No projected column within reach of any yaw's kernel; then none in the footprint rectangle
+  // (neither test implies the other: the disc reaches one column beyond the rectangle on a side
+  // where the kernels are not symmetric); then tile by tile, row by row.
+  if (map_.base_disc_clear(bx, by)) return false;
   const std::array<int, 4>& fp = kernels_.base_footprint();
   if (map_.base_columns_set(bx + fp[0], by + fp[2], bx + fp[1], by + fp[3]) == 0) return false;
   const int g = map_.ground_layer();

@@ -10,10 +10,11 @@
 
 namespace porter::planner {
 
-MapKernel::MapKernel(const MapKernelSettings& settings, int padding_voxels, int base_layers)
-    : settings_(settings), pad_(padding_voxels), base_layers_(base_layers) {
+MapKernel::MapKernel(const MapKernelSettings& settings, int padding_voxels, int base_layers, int base_reach2)
+    : settings_(settings), pad_(padding_voxels), base_layers_(base_layers), base_reach2_(base_reach2) {
   if (padding_voxels < 1) throw std::invalid_argument("MapKernel: padding_voxels must be >= 1");
   if (base_layers < 1) throw std::invalid_argument("MapKernel: base_layers must be >= 1");
+  if (base_reach2 < -1) throw std::invalid_argument("MapKernel: base_reach2 must be >= 0 (or -1 for none)");
   if (!(settings.safety_margin_m >= 0.0) || !std::isfinite(settings.safety_margin_m))
     throw std::invalid_argument("MapKernel: safety_margin_m must be finite and >= 0");
   if (!(settings.distance_cap_m > 0.0) || !std::isfinite(settings.distance_cap_m))
@@ -261,7 +262,7 @@ bool MapKernel::in_core(int x, int y, int z) const {
 
 std::size_t MapKernel::bytes() const {
   return (occ_.size() + base_.size() + arm_.size() + core_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
-         sat_.size() * sizeof(std::uint16_t) + clearance_.size();
+         sat_.size() * sizeof(std::uint16_t) + base_disc_.size() * sizeof(std::uint64_t) + clearance_.size();
 }
 
 }  // namespace porter::planner

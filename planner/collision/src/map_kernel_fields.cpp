@@ -1,4 +1,4 @@
-// Derived fields of the map kernel: the base projection's summed-area table and the cell
+// Derived fields of the map kernel: the base projection's summed-area table and disc bits, and the cell
 // distance field (exact squared Euclidean distance transform, Felzenszwalb & Huttenlocher).
 #include <algorithm>
 #include <cmath>
@@ -28,6 +28,36 @@ void MapKernel::rebuild_projection() {
           static_cast<std::uint16_t>(sat_[static_cast<std::size_t>((x + 1) + sx * y)] + run);
     }
   }
+  rebuild_base_disc();
+}
+
+void MapKernel::rebuild_base_disc() {
+  const int nx = dims_.x(), ny = dims_.y();
+  const std::int64_t columns = static_cast<std::int64_t>(nx) * ny;
+  base_disc_.assign(static_cast<std::size_t>((columns + 63) / 64), 0);
+  if (base_reach2_ < 0) return;
+  // Squared centre distance of every column to the nearest projected column (a 2D transform:
+  // one layer), from the summed-area table's rows.
+  const std::int64_t sx = nx + 1;
+  std::vector<std::uint8_t> site(static_cast<std::size_t>(columns));
+  for (int y = 0; y < ny; ++y)
+    for (int x = 0; x < nx; ++x) {
+      const std::size_t above = static_cast<std::size_t>((x + 1) + sx * (y + 1)), left = above - 1;
+      const std::size_t below = above - static_cast<std::size_t>(sx), diag = below - 1;
+      site[static_cast<std::size_t>(x + static_cast<std::int64_t>(nx) * y)] =
+          static_cast<std::uint16_t>(sat_[above] - sat_[left] - sat_[below] + sat_[diag]) != 0;
+    }
+  std::vector<std::int32_t> d2;
+  edt::squared_distance_3d(site, nx, ny, 1, d2);
+  // A column within reach of the array's edge might have a set column beyond it: not clear.
+  int reach = 0;
+  while (static_cast<std::int64_t>(reach + 1) * (reach + 1) <= base_reach2_) ++reach;
+  for (int y = reach; y < ny - reach; ++y)
+    for (int x = reach; x < nx - reach; ++x) {
+      const std::int64_t b = x + static_cast<std::int64_t>(nx) * y;
+      if (d2[static_cast<std::size_t>(b)] > base_reach2_)
+        base_disc_[static_cast<std::size_t>(b >> 6)] |= std::uint64_t{1} << (b & 63);
+    }
 }
 
 void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen::Vector3i& cell_hi_in) {

@@ -106,6 +106,7 @@ void RobotKernels::build_base(const RobotModel& model, int n_yaw) {
   const auto& shapes = model.links[0].shapes;
   base_footprint_ = {1 << 14, -(1 << 14), 1 << 14, -(1 << 14)};
   base_layers_ = 1;
+  base_reach2_ = 0;
   for (int k = 0; k < n_yaw; ++k) {
     const Eigen::Isometry3d R(Eigen::AngleAxisd(base_sample_yaw(k), Eigen::Vector3d::UnitZ()));
     std::vector<CollisionShape> rotated = shapes;
@@ -160,7 +161,10 @@ void RobotKernels::build_base(const RobotModel& model, int n_yaw) {
               r.dx0 = static_cast<std::int16_t>(first);
               r.dy = static_cast<std::int16_t>(dy);
               r.dz = static_cast<std::int16_t>(dz);
-              for (int i = first; i < dx; ++i) r.mask |= std::uint64_t{1} << (i - first);
+              for (int i = first; i < dx; ++i) {
+                r.mask |= std::uint64_t{1} << (i - first);
+                base_reach2_ = std::max(base_reach2_, i * i + dy * dy);
+              }
               base_rows_.push_back(r);
               tile.dx_lo = static_cast<std::int16_t>(std::min<int>(tile.dx_lo, first));
               tile.dx_hi = static_cast<std::int16_t>(std::max<int>(tile.dx_hi, dx - 1));

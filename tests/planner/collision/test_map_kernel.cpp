@@ -3,6 +3,7 @@
 #include <cmath>
 #include <random>
 #include <stdexcept>
+#include <vector>
 
 #include "collision_test_utils.hpp"
 #include "porter/planner/collision/map_kernel.hpp"
@@ -116,6 +117,58 @@ TEST(MapKernel, BaseColumnCountsMatchBruteForce) {
       }
     ASSERT_EQ(mk.base_columns_set(x0, y0, x1, y1), count);
   }
+}
+
+/// base_disc_clear() against its definition, by brute force over every padded column.
+void expect_base_disc_matches_definition(const MapKernel& mk, int reach2, bool some_clear = true) {
+  const Eigen::Vector3i n = mk.padded_dims();
+  std::vector<std::uint8_t> column(static_cast<std::size_t>(n.x()) * n.y(), 0);
+  for (int y = 0; y < n.y(); ++y)
+    for (int x = 0; x < n.x(); ++x)
+      for (int z = mk.ground_layer(); z < mk.ground_layer() + mk.base_layers(); ++z)
+        if (mk.in_base(x, y, z)) column[static_cast<std::size_t>(x + n.x() * y)] = 1;
+  int reach = 0;
+  while ((reach + 1) * (reach + 1) <= reach2) ++reach;
+  int clear = 0, blocked = 0;
+  for (int y = 0; y < n.y(); ++y)
+    for (int x = 0; x < n.x(); ++x) {
+      // Near the array's edge a set column may lie outside it: never clear there.
+      bool expected = x >= reach && y >= reach && x < n.x() - reach && y < n.y() - reach;
+      for (int dy = -reach; dy <= reach && expected; ++dy)
+        for (int dx = -reach; dx <= reach && expected; ++dx)
+          if (dx * dx + dy * dy <= reach2 && column[static_cast<std::size_t>((x + dx) + n.x() * (y + dy))]) expected = false;
+      ASSERT_EQ(mk.base_disc_clear(x, y), expected) << x << " " << y;
+      clear += expected;
+      blocked += !expected && x >= reach && y >= reach && x < n.x() - reach && y < n.y() - reach;
+    }
+  if (some_clear) {
+    EXPECT_GT(clear, 0);
+  }
+  EXPECT_GT(blocked, 0);
+}
+
+TEST(MapKernel, BaseDiscBitsMatchBruteForce) {
+  const OccupancyGrid grid = random_grid({0.0, 0.0, 0.0}, 0.1, {41, 27, 9}, 0.002, 14);
+  for (int reach2 : {0, 2, 5, 13}) {
+    MapKernel mk({}, 4, 3, reach2);
+    mk.set_map(grid);
+    expect_base_disc_matches_definition(mk, reach2);
+  }
+  // With a margin (dilated columns), and with a grid above the ground (the layers between are
+  // set under the whole grid: nothing is clear).
+  MapKernelSettings s;
+  s.safety_margin_m = 0.15;
+  MapKernel mk(s, 5, 4, 8);
+  mk.set_map(random_grid({-1.0, 0.5, 0.0}, 0.1, {33, 29, 8}, 0.001, 15));
+  expect_base_disc_matches_definition(mk, 8);
+  mk.set_map(random_grid({-1.0, 0.5, 0.2}, 0.1, {33, 29, 8}, 0.001, 15));
+  expect_base_disc_matches_definition(mk, 8, false);
+  // No reach: never clear.
+  MapKernel none({}, 4, 3);
+  none.set_map(grid);
+  for (int y = 0; y < none.padded_dims().y(); ++y)
+    for (int x = 0; x < none.padded_dims().x(); ++x) ASSERT_FALSE(none.base_disc_clear(x, y));
+  EXPECT_THROW(MapKernel({}, 4, 3, -2), std::invalid_argument);
 }
 
 TEST(MapKernel, ClearanceIsALowerBoundOfTheDistanceToTheCoreSet) {

@@ -23,6 +23,8 @@ void expect_identical(const MapKernel& a, const MapKernel& b) {
       }
   for (int y = 0; y < n.y(); y += 3)
     for (int x = 0; x < n.x(); x += 5) ASSERT_EQ(a.base_columns_set(0, 0, x, y), b.base_columns_set(0, 0, x, y));
+  for (int y = 0; y < n.y(); ++y)
+    for (int x = 0; x < n.x(); ++x) ASSERT_EQ(a.base_disc_clear(x, y), b.base_disc_clear(x, y)) << x << " " << y;
 }
 
 TEST(MapKernelUpdate, IncrementalEqualsRebuildAndReportsTheChangedBox) {
@@ -34,7 +36,7 @@ TEST(MapKernelUpdate, IncrementalEqualsRebuildAndReportsTheChangedBox) {
   MapKernelSettings s;
   s.safety_margin_m = 0.12;
   s.distance_cap_m = 0.6;
-  MapKernel incremental(s, 4, 5);
+  MapKernel incremental(s, 4, 5, 5);
   const MapUpdateStats first = incremental.set_map(grid);
   EXPECT_FALSE(first.incremental);
   EXPECT_TRUE(incremental.set_map(grid).incremental);
@@ -56,14 +58,14 @@ TEST(MapKernelUpdate, IncrementalEqualsRebuildAndReportsTheChangedBox) {
     EXPECT_GT(st.changed_voxels, 0);
     EXPECT_LE(st.changed_lo.x(), x0);
     EXPECT_GE(st.changed_hi.x(), x0 + 4);
-    MapKernel fresh(s, 4, 5);
+    MapKernel fresh(s, 4, 5, 5);
     fresh.set_map(grid);
     expect_identical(incremental, fresh);
   }
   // A grid of another size is a full rebuild.
   const OccupancyGrid other({-2.0, -1.0, 0.0}, 0.1, {60, 30, 20});
   EXPECT_FALSE(incremental.set_map(other).incremental);
-  MapKernel fresh(s, 4, 5);
+  MapKernel fresh(s, 4, 5, 5);
   fresh.set_map(other);
   expect_identical(incremental, fresh);
 }

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <set>
@@ -64,6 +65,19 @@ TEST_F(RobotKernelsTest, CountsAddUpAndGrowLinearly) {
   const RobotKernels twice(*model_, fine);
   EXPECT_LT(twice.kernel_count(), 2 * kernels_->kernel_count() + 16);
   EXPECT_GT(twice.kernel_count(), 2 * kernels_->kernel_count() - 16);
+}
+
+TEST_F(RobotKernelsTest, BaseReachIsTheFarthestColumnOfAnyYaw) {
+  int farthest = 0;
+  for (int k = 0; k < kernels_->num_samples(0); ++k)
+    for (const auto& d : kernels_->base_offsets(k)) {
+      ASSERT_LE(d.x() * d.x() + d.y() * d.y(), kernels_->base_reach2()) << "yaw sample " << k;
+      farthest = std::max(farthest, d.x() * d.x() + d.y() * d.y());
+    }
+  EXPECT_EQ(farthest, kernels_->base_reach2());
+  // The Scout Mini's 0.61 x 0.42 m body (wheels beside it) at 5 cm: about 8-10 voxels.
+  EXPECT_GT(kernels_->base_reach2(), 7 * 7);
+  EXPECT_LT(kernels_->base_reach2(), 11 * 11);
 }
 
 TEST_F(RobotKernelsTest, BaseOffsetsHoldEveryVoxelTheBaseMeetsWithinItsBin) {

@@ -26,6 +26,13 @@
 // Derived data, kept exact with respect to the sets above:
 //   - a 2D summed-area table of the base set projected over the base kernel's layers
 //     [ground, ground + base_layers): the number of set columns in any x-y rectangle in O(1);
+//   - a bit per column (x, y) of the padded array: no column of that projection has its centre
+//     within sqrt(base_reach2) columns of this column's centre (exact squared distance transform
+//     of the projection). With base_reach2 the largest squared offset of a base kernel column
+//     from the base's own column, a set bit under the base clears every yaw at once with one
+//     lookup in a small table (17 kB for a 22 x 8 m map) before the summed-area table is read;
+//     on 5 000 free-near forest configurations it decided 75 % of the base tests. Columns within
+//     sqrt(base_reach2) of the array's edge have the bit clear.
 //   - a distance field over cells of kCellVoxels^3 voxels of the grid's region: per cell, the
 //     Euclidean distance from the cell's centre (a lattice vertex) to the nearest core voxel's
 //     box, in units of h / 4, rounded down and capped at distance_cap_m (0 outside the grid's
@@ -86,8 +93,9 @@ class MapKernel {
 
   MapKernel() = default;
   /// padding_voxels >= 1 on every side; base_layers >= 1 voxel layers above the ground covered by
-  /// the base kernel (for the projection). Throws std::invalid_argument on bad values.
-  MapKernel(const MapKernelSettings& settings, int padding_voxels, int base_layers);
+  /// the base kernel (for the projection); base_reach2 >= 0 the squared column distance of
+  /// base_disc_clear() (-1: no column is ever clear). Throws std::invalid_argument on bad values.
+  MapKernel(const MapKernelSettings& settings, int padding_voxels, int base_layers, int base_reach2 = -1);
 
   /// Replaces the map; incremental when the grid has the current geometry. Throws
   /// std::invalid_argument for an empty grid or a ground that is not a voxel boundary.
@@ -155,6 +163,13 @@ class MapKernel {
     // Sums modulo 2^16 (see sat_): exact for rectangles of fewer than 65 536 columns.
     return static_cast<std::uint16_t>(at(x1 + 1, y1 + 1) - at(x0, y1 + 1) - at(x1 + 1, y0) + at(x0, y0));
   }
+  /// Whether no column of the base set's projection has its centre within sqrt(base_reach2)
+  /// columns of column (x, y)'s centre (padded indices; precondition: inside the padded array).
+  bool base_disc_clear(int x, int y) const {
+    const std::int64_t b = static_cast<std::int64_t>(y) * dims_.x() + x;
+    return (base_disc_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
+  }
+  int base_reach2() const { return base_reach2_; }
   /// Lower bound, in units of h / 4, of the distance from the point at padded voxel coordinates
   /// u (u = (p_W - padded_origin_W) / h) to the core set: its cell's stored centre distance minus
   /// the point's distance from the centre (a distance to a set is 1-Lipschitz) minus
@@ -217,6 +232,7 @@ class MapKernel {
   bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats);
   void rebuild_rows(int y0, int y1, int z0, int z1);
   void rebuild_projection();
+  void rebuild_base_disc();
   void rebuild_clearance(const Eigen::Vector3i& cell_lo, const Eigen::Vector3i& cell_hi);
   bool outside_base_row(int y, int z) const;
   bool outside_arm_row(int y, int z) const;
@@ -239,6 +255,8 @@ class MapKernel {
   /// out exact from four entries in modular arithmetic, at half the memory of 32-bit sums (a
   /// base check reads eight scattered entries; fewer cache misses).
   std::vector<std::uint16_t> sat_;
+  int base_reach2_ = -1;
+  std::vector<std::uint64_t> base_disc_;  ///< base_disc_clear() bits, column y * Nx + x
   Eigen::Vector3i cells_ = Eigen::Vector3i::Zero();
   float cell_offset_ = 0.f;  ///< = padding (cells start at the grid)
   int cap_units_ = 0;

@@ -136,6 +136,9 @@ class RobotKernels {
   const std::array<int, 4>& base_footprint() const { return base_footprint_; }
   /// Number of voxel layers above the ground any base kernel reaches.
   int base_layers() const { return base_layers_; }
+  /// Largest dx^2 + dy^2 over the voxels (dx, dy, dz) of every base kernel: no base kernel has a
+  /// column farther than sqrt(base_reach2()) from the base's own column (MapKernel::base_disc_clear()).
+  int base_reach2() const { return base_reach2_; }
   /// Offsets of yaw sample k (tests).
   std::vector<Eigen::Vector3i> base_offsets(int k) const;
 
@@ -164,6 +167,7 @@ class RobotKernels {
   std::vector<std::size_t> base_tile_begin_{0};
   std::array<int, 4> base_footprint_{0, -1, 0, -1};
   int base_layers_ = 1;
+  int base_reach2_ = 0;
   std::array<WidePointTreePool, kNumLinks> pools_;
   int max_extent_voxels_ = 0;
 };
