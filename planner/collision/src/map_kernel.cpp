@@ -36,12 +36,15 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
   words_per_row_ = (dims_.x() + 63) / 64 + 1;
   row_bits_ = 64 * words_per_row_;
   const auto n_words = static_cast<std::size_t>(words_per_row_ * dims_.y() * static_cast<std::int64_t>(dims_.z()));
+  bricks_ = (dims_ + Eigen::Vector3i::Constant(3)) / 4;
+  const auto n_bricks = static_cast<std::size_t>(bricks_.x()) * static_cast<std::size_t>(bricks_.y()) *
+                        static_cast<std::size_t>(bricks_.z());
   // arm_bits8() and the clearance lookups index with 32-bit lanes (16 GiB of bits per set).
-  if (n_words > static_cast<std::size_t>(INT32_MAX))
+  if (n_words > static_cast<std::size_t>(INT32_MAX) || n_bricks > static_cast<std::size_t>(INT32_MAX))
     throw std::invalid_argument("MapKernel: padded map too large (" + std::to_string(n_words) + " words per set)");
   occ_.assign(n_words, 0);
   base_.assign(n_words, 0);
-  arm_.assign(n_words, 0);
+  arm_bricks_.assign(n_bricks, 0);
   core_.assign(n_words, 0);
   edge_mask_.assign(static_cast<std::size_t>(words_per_row_), 0);
   for (std::int64_t x = 0; x < row_bits_; ++x)
@@ -161,7 +164,7 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
         }
     }
   const std::vector<std::uint64_t> ones(static_cast<std::size_t>(W), ~std::uint64_t{0});
-  std::vector<std::uint64_t> src(static_cast<std::size_t>(W));
+  std::vector<std::uint64_t> src(static_cast<std::size_t>(W)), arm_row(static_cast<std::size_t>(W));
   for (int z = z0; z <= z1; ++z)
     for (int y = y0; y <= y1; ++y) {
       std::uint64_t* b = &base_[static_cast<std::size_t>(row(y, z) * W)];
@@ -177,7 +180,7 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
       const bool out_c = outside_arm_row(y, z);
       for (std::int64_t w = 0; w < W; ++w)
         c[w] = out_c ? ~std::uint64_t{0} : (m[w] | edge_mask_[static_cast<std::size_t>(w)]);
-      std::uint64_t* a = &arm_[static_cast<std::size_t>(row(y, z) * W)];
+      std::uint64_t* a = arm_row.data();
       std::fill(a, a + W, 0);
       bool full = false;
       for (int dz = -1; dz <= 1 && !full; ++dz)
@@ -193,6 +196,14 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
           bits::or_dilated(a, src.data(), W, 1);
         }
       if (full) std::fill(a, a + W, ~std::uint64_t{0});
+      // Into the bricks: four bits of the row per brick, at the row's place in it.
+      const int shift = brick_bit(0, y, z);
+      const std::size_t first = static_cast<std::size_t>(brick(0, y, z));
+      for (int bx = 0; bx < bricks_.x(); ++bx) {
+        const std::uint64_t nibble = (a[bx >> 4] >> (4 * (bx & 15))) & 0xfu;
+        std::uint64_t& word = arm_bricks_[first + static_cast<std::size_t>(bx)];
+        word = (word & ~(std::uint64_t{0xf} << shift)) | (nibble << shift);
+      }
     }
 }
 
@@ -261,7 +272,7 @@ bool MapKernel::in_core(int x, int y, int z) const {
 }
 
 std::size_t MapKernel::bytes() const {
-  return (occ_.size() + base_.size() + arm_.size() + core_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
+  return (occ_.size() + base_.size() + arm_bricks_.size() + core_.size() + edge_mask_.size()) * sizeof(std::uint64_t) +
          sat_.size() * sizeof(std::uint16_t) + base_disc_.size() * sizeof(std::uint64_t) + clearance_.size();
 }
 

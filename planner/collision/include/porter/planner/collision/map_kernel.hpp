@@ -6,7 +6,12 @@
 // Lattice: the voxels of the OccupancyGrid given to set_map() (origin o, resolution h), extended
 // by `padding_voxels` P on every side, so that index (x, y, z) here is grid index + P. Rows along
 // x are word-aligned: bit x of row (y, z) is bit x % 64 of word (y + Ny z) * W + x / 64, with one
-// spare word per row so a 64-bit window starting at any x in the row can be read.
+// spare word per row so a 64-bit window starting at any x in the row can be read. The arm set
+// alone is stored in bricks of 4 x 4 x 4 voxels, one 64-bit word each (brick (x/4, y/4, z/4) is
+// word x/4 + Bx (y/4 + By z/4), bit (x % 4) + 4 (y % 4) + 16 (z % 4)): the eight points of a
+// kernel block lie within a few voxels of each other and read one or two bricks where they read
+// four to nine rows (A/B, forest, 20 000 free-near configurations, medians of five alternating
+// runs: 383 vs 390-410 ns per batched check; tunnel 294 vs 297).
 //
 // Sets held (each voxel a closed box):
 //   O     occupied voxels of the grid;
@@ -101,7 +106,7 @@ class MapKernel {
   /// std::invalid_argument for an empty grid or a ground that is not a voxel boundary.
   MapUpdateStats set_map(const OccupancyGrid& grid);
 
-  bool has_map() const { return !arm_.empty(); }
+  bool has_map() const { return !arm_bricks_.empty(); }
   const MapKernelSettings& settings() const { return settings_; }
   int padding() const { return pad_; }
   double resolution_m() const { return res_; }
@@ -114,8 +119,7 @@ class MapKernel {
 
   /// Bit of the arm set at padded index (precondition: inside the padded array).
   bool arm_bit(int x, int y, int z) const {
-    const std::int64_t b = static_cast<std::int64_t>(row(y, z)) * row_bits_ + x;
-    return (arm_[static_cast<std::size_t>(b >> 6)] >> (b & 63)) & 1u;
+    return (arm_bricks_[static_cast<std::size_t>(brick(x, y, z))] >> brick_bit(x, y, z)) & 1u;
   }
   /// Bit of the core set at padded index (precondition: inside the padded array).
   bool core_bit(int x, int y, int z) const {
@@ -208,11 +212,11 @@ class MapKernel {
   /// lane mask. Precondition: every voxel inside the padded array.
   PORTER_SIMD_INLINE std::uint32_t arm_bits8(const v8f& ux, const v8f& uy, const v8f& uz) const {
     const v8i ix = v8_trunc(ux), iy = v8_trunc(uy), iz = v8_trunc(uz);
-    const v8i word = (iy + v8i_splat(dims_.y()) * iz) * v8i_splat(static_cast<std::int32_t>(words_per_row_)) + (ix >> 6);
-    const v8i bit = ix & 63;
+    const v8i word = (ix >> 2) + v8i_splat(bricks_.x()) * ((iy >> 2) + v8i_splat(bricks_.y()) * (iz >> 2));
+    const v8i bit = (ix & 3) | ((iy & 3) << 2) | ((iz & 3) << 4);
     std::uint32_t mask = 0;
     for (int i = 0; i < 8; ++i)
-      mask |= static_cast<std::uint32_t>((arm_[static_cast<std::uint32_t>(word[i])] >> bit[i]) & 1u) << i;
+      mask |= static_cast<std::uint32_t>((arm_bricks_[static_cast<std::uint32_t>(word[i])] >> bit[i]) & 1u) << i;
     return mask;
   }
 
@@ -228,6 +232,10 @@ class MapKernel {
 
  private:
   std::int64_t row(int y, int z) const { return y + static_cast<std::int64_t>(dims_.y()) * z; }
+  std::int64_t brick(int x, int y, int z) const {
+    return (x >> 2) + static_cast<std::int64_t>(bricks_.x()) * ((y >> 2) + static_cast<std::int64_t>(bricks_.y()) * (z >> 2));
+  }
+  static int brick_bit(int x, int y, int z) { return (x & 3) | ((y & 3) << 2) | ((z & 3) << 4); }
   void allocate(const OccupancyGrid& grid);
   bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats);
   void rebuild_rows(int y0, int y1, int z0, int z1);
@@ -249,7 +257,9 @@ class MapKernel {
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   int ground_ = 0;
   std::int64_t words_per_row_ = 0, row_bits_ = 0;
-  std::vector<std::uint64_t> occ_, base_, arm_, core_;  ///< O, base, arm and core sets (padded rows)
+  std::vector<std::uint64_t> occ_, base_, core_;  ///< O, base and core sets (padded rows)
+  Eigen::Vector3i bricks_ = Eigen::Vector3i::Zero();  ///< arm bricks per axis: ceil(padded dims / 4)
+  std::vector<std::uint64_t> arm_bricks_;             ///< the arm set, one word per brick
   std::vector<std::uint64_t> edge_mask_;         ///< one row: bits outside the grid's x range
   /// (Nx + 1) x (Ny + 1) summed-area table, modulo 2^16: a rectangle's count (below 2^16) comes
   /// out exact from four entries in modular arithmetic, at half the memory of 32-bit sums (a
