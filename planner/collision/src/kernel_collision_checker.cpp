@@ -51,8 +51,9 @@ void KernelCollisionChecker::set_map(const OccupancyGrid& occupancy_W) {
 
 PORTER_KERNEL_CLONES bool KernelCollisionChecker::base_hit(int bx, int by, int yaw_sample) const {
   // No projected column within reach of any yaw's kernel; then none in the footprint rectangle
-  // (neither test implies the other: the disc reaches one column beyond the rectangle on a side
-  // where the kernels are not symmetric); then tile by tile, row by row.
+  // (neither test implies the other: the rectangle's corners lie outside the disc, and the disc
+  // reaches past the rectangle where the kernels are not symmetric about the base's column);
+  // then tile by tile, row by row.
   if (map_.base_disc_clear(bx, by)) return false;
   const std::array<int, 4>& fp = kernels_.base_footprint();
   if (map_.base_columns_set(bx + fp[0], by + fp[2], bx + fp[1], by + fp[3]) == 0) return false;
