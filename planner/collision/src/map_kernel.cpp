@@ -163,7 +163,6 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
           for (std::int64_t w = 0; w < W; ++w) dst[w] |= src[w];
         }
     }
-  const std::vector<std::uint64_t> ones(static_cast<std::size_t>(W), ~std::uint64_t{0});
   std::vector<std::uint64_t> src(static_cast<std::size_t>(W)), arm_row(static_cast<std::size_t>(W));
   for (int z = z0; z <= z1; ++z)
     for (int y = y0; y <= y1; ++y) {

@@ -12,44 +12,35 @@ namespace porter::planner {
 
 void MapKernel::rebuild_projection() {
   const std::int64_t W = words_per_row_;
+  const int nx = dims_.x(), ny = dims_.y();
   const int z_end = std::min(ground_ + base_layers_, dims_.z());
-  const std::int64_t sx = dims_.x() + 1;
+  const std::int64_t sx = nx + 1;
+  const std::int64_t columns = static_cast<std::int64_t>(nx) * ny;
+  // The projected columns, as sites of the column bits' distance transform (when they are used).
+  std::vector<std::uint8_t> site(base_reach2_ >= 0 ? static_cast<std::size_t>(columns) : 0);
   std::vector<std::uint64_t> proj(static_cast<std::size_t>(W));
-  for (int y = 0; y < dims_.y(); ++y) {
+  for (int y = 0; y < ny; ++y) {
     std::fill(proj.begin(), proj.end(), 0);
     for (int z = std::max(ground_, 0); z < z_end; ++z) {
       const std::uint64_t* b = &base_[static_cast<std::size_t>(row(y, z) * W)];
       for (std::int64_t w = 0; w < W; ++w) proj[static_cast<std::size_t>(w)] |= b[w];
     }
     std::uint16_t run = 0;  // modulo 2^16, like the table
-    for (int x = 0; x < dims_.x(); ++x) {
-      run = static_cast<std::uint16_t>(run + ((proj[static_cast<std::size_t>(x >> 6)] >> (x & 63)) & 1u));
+    for (int x = 0; x < nx; ++x) {
+      const auto set = static_cast<std::uint8_t>((proj[static_cast<std::size_t>(x >> 6)] >> (x & 63)) & 1u);
+      run = static_cast<std::uint16_t>(run + set);
       sat_[static_cast<std::size_t>((x + 1) + sx * (y + 1))] =
           static_cast<std::uint16_t>(sat_[static_cast<std::size_t>((x + 1) + sx * y)] + run);
+      if (!site.empty()) site[static_cast<std::size_t>(x + static_cast<std::int64_t>(nx) * y)] = set;
     }
   }
-  rebuild_base_disc();
-}
-
-void MapKernel::rebuild_base_disc() {
-  const int nx = dims_.x(), ny = dims_.y();
-  const std::int64_t columns = static_cast<std::int64_t>(nx) * ny;
+  // Column bits: squared centre distance of every column to the nearest projected column (a 2D
+  // transform: one layer) beyond base_reach2. A column within reach of the array's edge might
+  // have a projected column beyond it: never clear.
   base_disc_.assign(static_cast<std::size_t>((columns + 63) / 64), 0);
-  if (base_reach2_ < 0) return;
-  // Squared centre distance of every column to the nearest projected column (a 2D transform:
-  // one layer), from the summed-area table's rows.
-  const std::int64_t sx = nx + 1;
-  std::vector<std::uint8_t> site(static_cast<std::size_t>(columns));
-  for (int y = 0; y < ny; ++y)
-    for (int x = 0; x < nx; ++x) {
-      const std::size_t above = static_cast<std::size_t>((x + 1) + sx * (y + 1)), left = above - 1;
-      const std::size_t below = above - static_cast<std::size_t>(sx), diag = below - 1;
-      site[static_cast<std::size_t>(x + static_cast<std::int64_t>(nx) * y)] =
-          static_cast<std::uint16_t>(sat_[above] - sat_[left] - sat_[below] + sat_[diag]) != 0;
-    }
+  if (site.empty()) return;
   std::vector<std::int32_t> d2;
   edt::squared_distance_3d(site, nx, ny, 1, d2);
-  // A column within reach of the array's edge might have a set column beyond it: not clear.
   int reach = 0;
   while (static_cast<std::int64_t>(reach + 1) * (reach + 1) <= base_reach2_) ++reach;
   for (int y = reach; y < ny - reach; ++y)

@@ -239,8 +239,7 @@ class MapKernel {
   void allocate(const OccupancyGrid& grid);
   bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats);
   void rebuild_rows(int y0, int y1, int z0, int z1);
-  void rebuild_projection();
-  void rebuild_base_disc();
+  void rebuild_projection();  ///< summed-area table and column bits
   void rebuild_clearance(const Eigen::Vector3i& cell_lo, const Eigen::Vector3i& cell_hi);
   bool outside_base_row(int y, int z) const;
   bool outside_arm_row(int y, int z) const;
