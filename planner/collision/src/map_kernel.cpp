@@ -39,9 +39,15 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
   bricks_ = (dims_ + Eigen::Vector3i::Constant(3)) / 4;
   const auto n_bricks = static_cast<std::size_t>(bricks_.x()) * static_cast<std::size_t>(bricks_.y()) *
                         static_cast<std::size_t>(bricks_.z());
-  // arm_bits8() and the clearance lookups index with 32-bit lanes (16 GiB of bits per set).
-  if (n_words > static_cast<std::size_t>(INT32_MAX) || n_bricks > static_cast<std::size_t>(INT32_MAX))
-    throw std::invalid_argument("MapKernel: padded map too large (" + std::to_string(n_words) + " words per set)");
+  cells_ = (grid_dims_ + Eigen::Vector3i::Constant(kCellVoxels - 1)) / kCellVoxels;
+  field_sy_ = static_cast<std::size_t>(cells_.x()) + 2;
+  field_sz_ = field_sy_ * (static_cast<std::size_t>(cells_.y()) + 2);
+  const std::size_t field_entries = field_sz_ * (static_cast<std::size_t>(cells_.z()) + 2);
+  // arm_bits8() and clear8() index with 32-bit lanes (16 GiB of bits per set, 2 GiB of cells).
+  if (n_words > static_cast<std::size_t>(INT32_MAX) || n_bricks > static_cast<std::size_t>(INT32_MAX) ||
+      field_entries > static_cast<std::size_t>(INT32_MAX))
+    throw std::invalid_argument("MapKernel: padded map too large (" + std::to_string(n_words) + " words per set, " +
+                                std::to_string(field_entries) + " distance cells)");
   occ_.assign(n_words, 0);
   base_.assign(n_words, 0);
   arm_bricks_.assign(n_bricks, 0);
@@ -68,10 +74,10 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
       margin_half_width_[static_cast<std::size_t>((dy + k) + n * (dz + k))] = best;
     }
 
-  cells_ = (grid_dims_ + Eigen::Vector3i::Constant(kCellVoxels - 1)) / kCellVoxels;
   cell_offset_ = static_cast<float>(pad_);
   cap_units_ = std::min(255, static_cast<int>(std::floor(4.0 * settings_.distance_cap_m / res_)));
-  clearance_.assign(static_cast<std::size_t>(cells_.prod()), 0);
+  clearance_.assign(field_entries, 0);
+  float_slack2_ = 0.25f + 0.002f * static_cast<float>(dims_.maxCoeff());
   sat_.assign(static_cast<std::size_t>(dims_.x() + 1) * static_cast<std::size_t>(dims_.y() + 1), 0);
 }
 

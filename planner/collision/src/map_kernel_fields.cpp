@@ -90,8 +90,7 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
         // In units of h / 4, rounded down.
         const double units = 4.0 * std::sqrt(static_cast<double>(q));
         const int value = std::min(cap_units_, static_cast<int>(std::floor(units)));
-        clearance_[static_cast<std::size_t>(cx + cells_.x() * (cy + cells_.y() * static_cast<std::int64_t>(cz)))] =
-            static_cast<std::uint8_t>(value);
+        clearance_[field_index(cx, cy, cz)] = static_cast<std::uint8_t>(value);
       }
 }
 

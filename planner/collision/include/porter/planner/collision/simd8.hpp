@@ -41,6 +41,8 @@ namespace porter::planner {
 
 typedef float v8f __attribute__((vector_size(32)));
 typedef std::int32_t v8i __attribute__((vector_size(32)));
+/// For unsigned lane comparisons (range checks in one compare): v8u(x) reinterprets a v8i.
+typedef std::uint32_t v8u __attribute__((vector_size(32)));
 
 // Splats are shuffles of lane 0: GCC 12 builds v8f{x, x, ..., x} in the AVX2 clones from four
 // 8-byte stores read back as one 32-byte load (a missed store forwarding each time), where the
