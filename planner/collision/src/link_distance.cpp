@@ -48,6 +48,34 @@ LinkDistance::LinkDistance(const std::vector<CollisionShape>& shapes_L) : shapes
   }
 }
 
+BoxUnionBound::BoxUnionBound(const std::vector<CollisionShape>& shapes_L) {
+  std::vector<Eigen::AlignedBox3d> boxes;
+  for (const auto& s : shapes_L) boxes.push_back(shape_bounds(s));
+  // Merge the pair whose union box adds the least volume until kMaxBoxes are left.
+  while (boxes.size() > static_cast<std::size_t>(kMaxBoxes)) {
+    std::size_t bi = 0, bj = 1;
+    double best = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < boxes.size(); ++i)
+      for (std::size_t j = i + 1; j < boxes.size(); ++j) {
+        const double added = boxes[i].merged(boxes[j]).volume() - boxes[i].volume() - boxes[j].volume();
+        if (added < best) {
+          best = added;
+          bi = i;
+          bj = j;
+        }
+      }
+    boxes[bi].extend(boxes[bj]);
+    boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(bj));
+  }
+  for (const auto& b : boxes) {
+    Box& out = boxes_[static_cast<std::size_t>(count_++)];
+    for (int a = 0; a < 3; ++a) {
+      out.lo[a] = static_cast<float>(b.min()[a]) - 1e-5f;
+      out.hi[a] = static_cast<float>(b.max()[a]) + 1e-5f;
+    }
+  }
+}
+
 float LinkDistance::prim_distance(const Prim& prim, const Eigen::Vector3f& p_L) {
   const Eigen::Vector3f q = prim.R_S_L * p_L + prim.t_S_L;
   switch (prim.kind) {

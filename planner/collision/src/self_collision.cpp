@@ -36,8 +36,10 @@ SelfCollisionChecker::SelfCollisionChecker(const RobotModel& model, const SelfCo
       if (model.allowed_collisions[static_cast<std::size_t>(a)][static_cast<std::size_t>(b)]) continue;
       for (int k : {a, b}) {
         const auto i = static_cast<std::size_t>(k);
-        if (!links_[i].empty() && grids_[i].bytes() == 0)
+        if (!links_[i].empty() && grids_[i].bytes() == 0) {
           grids_[i] = DistanceGrid(model.links[i].shapes, s, kGridMargin_m);
+          boxes_[i] = BoxUnionBound(model.links[i].shapes);
+        }
       }
     }
   std::array<bool, kNumLinks> need_samples{};
@@ -196,7 +198,8 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
         T_L_B[a] = poses.T_B_L[a].inverse();
         PoseLanes::splat(T_L_B[a]).apply(x, y, z, &x, &y, &z);
       }
-      std::uint32_t m = ~grids_[a].clear_of8(x, y, z, v8f_load(g.need)) & g.lane_bits;
+      const v8f need = v8f_load(g.need);
+      std::uint32_t m = ~(grids_[a].clear_of8(x, y, z, need) | boxes_[a].clear_of8(x, y, z, need)) & g.lane_bits;
       while (m != 0) {
         open |= 1u << g.pair[__builtin_ctz(m)];
         m &= m - 1;
@@ -240,7 +243,11 @@ PORTER_KERNEL_CLONES void SelfCollisionChecker::check_lanes(const ArmPoseLanes& 
     }
     v8f x = Rx[b], y = Ry[b], z = Rz[b];
     if (a != 0) poses.T_B_L[a].apply_inverse(x, y, z, &x, &y, &z);  // T_B_L[0] is the identity
-    std::uint32_t m = ~grids_[a].clear_of8(x, y, z, v8f_splat(root.radius_m + thr)) & close;
+    // A root sphere the grid cannot clear inside its box: the boxes alone (they also bound
+    // tighter than the grid's own box outside it).
+    const float need = root.radius_m + thr;
+    std::uint32_t m = ~(need >= grids_[a].cap_m() ? boxes_[a].clear_of8(x, y, z, v8f_splat(need))
+                                                  : grids_[a].clear_of8(x, y, z, v8f_splat(need))) & close;
     while (m != 0) {
       open[static_cast<std::size_t>(__builtin_ctz(m))] |= 1u << p;
       m &= m - 1;

@@ -302,5 +302,56 @@ TEST(Simd8, DistanceGridClearOf8MatchesClearOf) {
   EXPECT_LT(clear, total - total / 10);
 }
 
+// The box-union bound never exceeds the exact distance (with more shapes than boxes, so some
+// are merged, and with a rotated shape whose box is looser than it), and far from the link it
+// clears what the exact distance clears.
+TEST(Simd8, BoxUnionBoundIsALowerBoundOfTheLinkDistance) {
+  std::vector<CollisionShape> shapes;
+  std::mt19937_64 rng(12);
+  for (int k = 0; k < BoxUnionBound::kMaxBoxes + 3; ++k) {
+    CollisionShape s;
+    if (k % 2 == 0) {
+      s.geometry = Box{Eigen::Vector3d(test::uniform(rng, 0.02, 0.3), test::uniform(rng, 0.02, 0.2), test::uniform(rng, 0.02, 0.1))};
+    } else {
+      s.geometry = Cylinder{test::uniform(rng, 0.01, 0.06), test::uniform(rng, 0.05, 0.3)};
+    }
+    s.T_parent_shape.translation() = Eigen::Vector3d(test::uniform(rng, -0.4, 0.4), test::uniform(rng, -0.3, 0.3), test::uniform(rng, 0.0, 0.6));
+    s.T_parent_shape.linear() = Eigen::AngleAxisd(test::uniform(rng, -3.0, 3.0), Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    shapes.push_back(s);
+  }
+  const BoxUnionBound bound(shapes);
+  const LinkDistance exact(shapes);
+  EXPECT_EQ(bound.num_boxes(), BoxUnionBound::kMaxBoxes);
+  int clear = 0, exact_clear_far = 0, clear_far = 0;
+  for (int trial = 0; trial < 2000; ++trial) {
+    alignas(32) float x[8], y[8], z[8], d[8];
+    for (int i = 0; i < 8; ++i) {
+      x[i] = static_cast<float>(test::uniform(rng, -1.5, 1.5));
+      y[i] = static_cast<float>(test::uniform(rng, -1.5, 1.5));
+      z[i] = static_cast<float>(test::uniform(rng, -1.0, 1.8));
+      d[i] = static_cast<float>(test::uniform(rng, 0.0, 0.8));
+    }
+    const std::uint32_t m = bound.clear_of8(v8f_load(x), v8f_load(y), v8f_load(z), v8f_load(d));
+    for (int i = 0; i < 8; ++i) {
+      const double e = exact.signed_distance(Eigen::Vector3d(x[i], y[i], z[i]));
+      if ((m >> i) & 1u) {
+        ASSERT_GT(e, d[i]) << x[i] << " " << y[i] << " " << z[i] << " d " << d[i];
+        ++clear;
+      }
+      if (e > d[i] + 0.5) {  // far: the boxes are at most ~0.35 m looser than the shapes here
+        ++exact_clear_far;
+        clear_far += (m >> i) & 1u;
+      }
+    }
+  }
+  EXPECT_GT(clear, 2000);
+  EXPECT_EQ(clear_far, exact_clear_far);
+  // NaN points or distances are never clear; a negative distance neither.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(bound.clear_of8(v8f{nan, 5, 5, 5, 5, 5, 5, 5}, v8f_splat(5.f), v8f_splat(5.f),
+                            v8f{0.1f, nan, -1.f, 0.1f, 0.1f, 0.1f, 0.1f, 0.1f}) & 7u,
+            0u);
+}
+
 }  // namespace
 }  // namespace porter::planner

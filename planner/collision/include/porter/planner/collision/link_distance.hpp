@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -48,6 +49,46 @@ class LinkDistance {
   std::vector<CollisionShape> shapes_;
   std::vector<Prim> prims_;
   Eigen::AlignedBox3d bounds_;
+};
+
+/// A lower bound of the distance to a link's geometry far from it: the distance to the union of
+/// at most kMaxBoxes axis-aligned boxes (link frame) that contain the shapes (their bounding
+/// boxes; beyond kMaxBoxes shapes, merged pairwise where that adds the least volume; grown by
+/// 0.01 mm for float rounding). Where a DistanceGrid is capped (32 cm at s = 1 cm) or falls back
+/// to the distance to its own box (which holds the margin and the empty space between the
+/// shapes), this keeps its precision: on 5 000 free-near forest configurations the payload's
+/// root sphere (0.6 m) was proven clear of the base (8 shapes, 8 boxes) in 63 % of them this
+/// way, in 20 % by the base's grid (the exact distance: 63 %). With 4 merged boxes, 49 %.
+class BoxUnionBound {
+ public:
+  static constexpr int kMaxBoxes = 8;
+  BoxUnionBound() = default;
+  explicit BoxUnionBound(const std::vector<CollisionShape>& shapes_L);
+
+  int num_boxes() const { return count_; }
+  /// Bit i set when point i is farther than distance_i from every box (so from the geometry).
+  PORTER_SIMD_INLINE std::uint32_t clear_of8(const v8f& px, const v8f& py, const v8f& pz, const v8f& distance_m) const {
+    const v8f zero = v8f_splat(0.f);
+    v8i clear = v8i_splat(-1);
+    for (int b = 0; b < count_; ++b) {
+      const Box& box = boxes_[static_cast<std::size_t>(b)];
+      auto gap = [&zero](const v8f& p, float lo, float hi) PORTER_SIMD_LAMBDA {
+        const v8f below = v8f_splat(lo) - p, above = p - v8f_splat(hi);
+        const v8f g = below > above ? below : above;  // NaN when p is
+        return g < zero ? zero : g;                   // and stays NaN: never clear
+      };
+      const v8f gx = gap(px, box.lo[0], box.hi[0]), gy = gap(py, box.lo[1], box.hi[1]), gz = gap(pz, box.lo[2], box.hi[2]);
+      clear &= gx * gx + gy * gy + gz * gz > distance_m * distance_m;
+    }
+    return lane_mask(clear & (distance_m >= zero)) & (count_ > 0 ? 0xffu : 0u);
+  }
+
+ private:
+  struct Box {
+    float lo[3], hi[3];
+  };
+  std::array<Box, kMaxBoxes> boxes_{};
+  int count_ = 0;
 };
 
 /// A link rasterized on the lattice of voxels of edge s whose corners are s Z^3 (link frame):
@@ -115,6 +156,8 @@ class DistanceGrid {
   }
 
   std::size_t bytes() const { return values_.size(); }
+  /// The largest distance the grid can prove inside its box (values are clamped at 255 units).
+  float cap_m() const { return 255.f * unit_; }
 
  private:
   Eigen::Vector3f origin_ = Eigen::Vector3f::Zero();

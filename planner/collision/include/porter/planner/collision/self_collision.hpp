@@ -28,8 +28,11 @@
 //      most s sqrt(3)/2. Any point x common to a and b lies in one of those voxels, whose centre
 //      is within s sqrt(3)/2 of x and hence of a: no overlap is missed.
 //      Order of the run-time tests: the links' bounding spheres, eight pairs per test; then the
-//      root spheres of the sample trees of the pairs left, eight pairs of one grid link per test;
-//      then the trees below the roots, pair by pair in check order.
+//      root spheres of the sample trees of the pairs left, eight pairs of one grid link per test,
+//      against a's grid and the boxes around a's shapes (BoxUnionBound: the only test that can
+//      clear a root sphere larger than the grid's cap, like the payload's against the base;
+//      check_lanes() uses the boxes alone for those and the grid alone for the others); then the
+//      trees below the roots, pair by pair in check order.
 //      A reported pair is at most s sqrt(3) + 0.1 mm apart (inflation_bound_m(); the 0.1 mm
 //      covers float32 rounding of poses and points).
 //
@@ -104,6 +107,7 @@ class SelfCollisionChecker {
   SelfCollisionSettings settings_;
   std::array<LinkDistance, kNumLinks> links_;
   std::array<DistanceGrid, kNumLinks> grids_;
+  std::array<BoxUnionBound, kNumLinks> boxes_;  ///< far-field bounds of the grid links (root tests)
   std::array<Eigen::Vector3f, kNumLinks> sphere_centre_{};  ///< link bounding spheres (link frame)
   std::array<float, kNumLinks> sphere_radius_{};
   WidePointTreePool samples_;  ///< tree k = samples of link k (link frame)
