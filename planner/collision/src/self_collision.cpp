@@ -199,7 +199,8 @@ PORTER_KERNEL_CLONES CollisionResult SelfCollisionChecker::check(const ArmPoses&
         PoseLanes::splat(T_L_B[a]).apply(x, y, z, &x, &y, &z);
       }
       const v8f need = v8f_load(g.need);
-      std::uint32_t m = ~(grids_[a].clear_of8(x, y, z, need) | boxes_[a].clear_of8(x, y, z, need)) & g.lane_bits;
+      std::uint32_t m = g.lane_bits & ~boxes_[a].clear_of8(x, y, z, need);
+      if (m != 0) m &= ~grids_[a].clear_of8(x, y, z, need);
       while (m != 0) {
         open |= 1u << g.pair[__builtin_ctz(m)];
         m &= m - 1;
@@ -243,11 +244,12 @@ PORTER_KERNEL_CLONES void SelfCollisionChecker::check_lanes(const ArmPoseLanes& 
     }
     v8f x = Rx[b], y = Ry[b], z = Rz[b];
     if (a != 0) poses.T_B_L[a].apply_inverse(x, y, z, &x, &y, &z);  // T_B_L[0] is the identity
-    // A root sphere the grid cannot clear inside its box: the boxes alone (they also bound
-    // tighter than the grid's own box outside it).
+    // The boxes first (no memory to read; they clear more root spheres than the grid, whose
+    // bound outside its box is the distance to that box), then the grid for the lanes left
+    // unless the sphere is larger than the grid can ever prove.
     const float need = root.radius_m + thr;
-    std::uint32_t m = ~(need >= grids_[a].cap_m() ? boxes_[a].clear_of8(x, y, z, v8f_splat(need))
-                                                  : grids_[a].clear_of8(x, y, z, v8f_splat(need))) & close;
+    std::uint32_t m = close & ~boxes_[a].clear_of8(x, y, z, v8f_splat(need));
+    if (m != 0 && need < grids_[a].cap_m()) m &= ~grids_[a].clear_of8(x, y, z, v8f_splat(need));
     while (m != 0) {
       open[static_cast<std::size_t>(__builtin_ctz(m))] |= 1u << p;
       m &= m - 1;

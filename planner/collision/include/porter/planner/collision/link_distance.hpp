@@ -58,7 +58,7 @@ class LinkDistance {
 /// to the distance to its own box (which holds the margin and the empty space between the
 /// shapes), this keeps its precision: on 5 000 free-near forest configurations the payload's
 /// root sphere (0.6 m) was proven clear of the base (8 shapes, 8 boxes) in 63 % of them this
-/// way, in 20 % by the base's grid (the exact distance: 63 %). With 4 merged boxes, 49 %.
+/// way, in 20 % by the base's grid (the exact distance: 63 %); with 4 merged boxes, 49 %.
 class BoxUnionBound {
  public:
   static constexpr int kMaxBoxes = 8;

@@ -29,10 +29,13 @@
 //      is within s sqrt(3)/2 of x and hence of a: no overlap is missed.
 //      Order of the run-time tests: the links' bounding spheres, eight pairs per test; then the
 //      root spheres of the sample trees of the pairs left, eight pairs of one grid link per test,
-//      against a's grid and the boxes around a's shapes (BoxUnionBound: the only test that can
-//      clear a root sphere larger than the grid's cap, like the payload's against the base;
-//      check_lanes() uses the boxes alone for those and the grid alone for the others); then the
-//      trees below the roots, pair by pair in check order.
+//      against the boxes around a's shapes (BoxUnionBound), then a's grid for the spheres left
+//      (unless larger than the grid's cap); then the trees below the roots, pair by pair in check
+//      order. Why the boxes first: they read no memory, and they clear more root spheres than the
+//      grid, whose bound outside its box is the distance to that box (5 000 free-near forest
+//      configurations: payload vs base 63 % vs 20 %, link 3 vs base 97 % vs 59 %, every other
+//      pair at least as often). A/B (forest, 20 000 free-near configurations batched, seven
+//      alternating runs): 335 vs 343 ns; 2 000 reshuffled: 283 vs 300 ns.
 //      A reported pair is at most s sqrt(3) + 0.1 mm apart (inflation_bound_m(); the 0.1 mm
 //      covers float32 rounding of poses and points).
 //
