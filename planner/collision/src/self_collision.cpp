@@ -132,13 +132,17 @@ PORTER_SIMD_INLINE bool SelfCollisionChecker::pair_hit(std::size_t p, const Pose
   const v8f thr8 = v8f_splat(thr);
   const PoseLanes T_a_b = PoseLanes::splat(T_a_b_4);
   const DistanceGrid& grid = grids_[a];
+  const BoxUnionBound& boxes = boxes_[a];
   const LinkDistance& la = links_[a];
   return wide_tree_any(
       samples_, static_cast<int>(b),
       [&](const WideNode& n) PORTER_SIMD_LAMBDA {
         v8f x, y, z;
         T_a_b.apply(v8f_load(n.cx), v8f_load(n.cy), v8f_load(n.cz), &x, &y, &z);
-        return ~grid.clear_of8(x, y, z, v8f_load(n.r) + thr8);
+        const v8f need = v8f_load(n.r) + thr8;
+        std::uint32_t open = ~grid.clear_of8(x, y, z, need) & n.used;
+        if (open != 0) open &= ~boxes.clear_of8(x, y, z, need);
+        return open;
       },
       [&](const PointBlock& blk) PORTER_SIMD_LAMBDA {
         v8f x, y, z;

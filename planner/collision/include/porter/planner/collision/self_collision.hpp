@@ -31,7 +31,8 @@
 //      root spheres of the sample trees of the pairs left, eight pairs of one grid link per test,
 //      against the boxes around a's shapes (BoxUnionBound), then a's grid for the spheres left
 //      (unless larger than the grid's cap); then the trees below the roots, pair by pair in check
-//      order. Why the boxes first: they read no memory, and they clear more root spheres than the
+//      order (a node's child spheres the grid leaves open are tried against the boxes too:
+//      A/B 317 vs 325 ns, 278 vs 281 over 2 000). Why the boxes first: they read no memory, and they clear more root spheres than the
 //      grid, whose bound outside its box is the distance to that box (5 000 free-near forest
 //      configurations: payload vs base 63 % vs 20 %, link 3 vs base 97 % vs 59 %, every other
 //      pair at least as often). A/B (forest, 20 000 free-near configurations batched, seven
