@@ -1,6 +1,8 @@
 #include "porter/planner/collision/wide_point_tree.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <tuple>
 #include <stdexcept>
 
 #include "porter/planner/collision/point_tree.hpp"
@@ -9,20 +11,48 @@ namespace porter::planner {
 
 namespace {
 
-/// Splits [begin, end) into at most `parts` groups at medians of the longest axis, every split
-/// after a multiple of eight points (the remainder ends in the last group).
+/// Splits [begin, end) into at most `parts` groups, in two halves at a time: each cut after a
+/// whole number of blocks (eight points; the remainder ends in the last group), between a quarter
+/// and three quarters of the blocks, along the axis and at the place where the two halves' boxes
+/// have the smallest sum of diagonals.
 void split(std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t end, int parts,
            std::vector<std::pair<std::uint32_t, std::uint32_t>>& out) {
-  const std::uint32_t blocks = (end - begin + 7) / 8;
+  const std::uint32_t n = end - begin, blocks = (n + 7) / 8;
   if (parts <= 1 || blocks <= 1) {
     out.emplace_back(begin, end);
     return;
   }
+  // A total order per axis (ties broken by the other coordinates), so sorting again along the
+  // chosen axis reproduces the order its cuts were scored in.
+  auto by_axis = [](int a) {
+    return [a](const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      return std::tie(p[a], p[b], p[c]) < std::tie(q[a], q[b], q[c]);
+    };
+  };
+  const std::uint32_t lo = std::max<std::uint32_t>(1, blocks / 4), hi = blocks - lo;
   int axis = 0;
-  points_box(pts, begin, end).sizes().maxCoeff(&axis);
-  const std::uint32_t mid = begin + 8 * (blocks / 2);
-  std::nth_element(pts.begin() + begin, pts.begin() + mid, pts.begin() + end,
-                   [axis](const Eigen::Vector3f& a, const Eigen::Vector3f& b) { return a[axis] < b[axis]; });
+  std::uint32_t cut = blocks / 2;
+  float best = std::numeric_limits<float>::infinity();
+  std::vector<float> prefix(n + 1), suffix(n + 1);  // box diagonals of the first i / from i on
+  for (int a = 0; a < 3; ++a) {
+    std::sort(pts.begin() + begin, pts.begin() + end, by_axis(a));
+    Eigen::AlignedBox3f box;
+    box.setEmpty();
+    for (std::uint32_t i = 0; i < n; ++i) prefix[i + 1] = box.extend(pts[begin + i]).diagonal().norm();
+    box.setEmpty();
+    for (std::uint32_t i = n; i > 0; --i) suffix[i - 1] = box.extend(pts[begin + i - 1]).diagonal().norm();
+    for (std::uint32_t k = lo; k <= hi && 8 * k < n; ++k) {
+      const float cost = prefix[8 * k] + suffix[8 * k];
+      if (cost < best) {
+        best = cost;
+        axis = a;
+        cut = k;
+      }
+    }
+  }
+  std::sort(pts.begin() + begin, pts.begin() + end, by_axis(axis));
+  const std::uint32_t mid = begin + 8 * cut;
   split(pts, begin, mid, parts / 2, out);
   split(pts, mid, end, parts - parts / 2, out);
 }
