@@ -40,8 +40,8 @@
 // order (at most seven samples past it are checked).
 //
 // Speed (tests/bench/bench_collision.cpp, porter-bench-collision; README): free configurations
-// close to obstacles take ~0.42-0.55 us per check() and ~0.30-0.42 us per configuration in
-// check_batch(); colliding ones ~0.21-0.29 us either way (AVX2 clones; the payload's tree walk
+// close to obstacles take ~0.35-0.44 us per check() and ~0.23-0.32 us per configuration in
+// check_batch(); colliding ones ~0.19-0.29 us either way (AVX2 clones; the payload's tree walk
 // and the self-collision part dominate, then cache misses and mispredicted branches); no heap
 // allocation in check(), check_batch(), check_base(), check_motion(), check_trajectory().
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs
