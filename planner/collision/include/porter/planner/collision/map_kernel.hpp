@@ -203,9 +203,10 @@ class MapKernel {
     float t[3];
     for (int a = 0; a < 3; ++a) {
       const float f = (u[a] - cell_offset_) * kInvCell - 0.5f;
-      c[a] = static_cast<int>(f + 2.f) - 2;  // floor(f) for f >= -2; below that, outside anyway
+      // The cube's low corner floor(f) in [-1, cells - 1]; NaN fails too.
+      if (!(f >= -1.f && f < static_cast<float>(cells_[a]))) return 0.f;
+      c[a] = static_cast<int>(f + 1.f) - 1;
       t[a] = f - static_cast<float>(c[a]);
-      if (!(c[a] >= -1 && c[a] < cells_[a])) return 0.f;  // NaN lands here too
     }
     const std::uint8_t* q = &clearance_[field_index(c[0], c[1], c[2])];
     auto v2 = [&](int dx, int dy, int dz) {
@@ -226,29 +227,29 @@ class MapKernel {
   PORTER_SIMD_INLINE std::uint32_t clear8(const v8f& ux, const v8f& uy, const v8f& uz, const v8f& need) const {
     const v8f off = v8f_splat(cell_offset_), inv_cell = v8f_splat(kInvCell), half = v8f_splat(0.5f);
     const v8f fx = (ux - off) * inv_cell - half, fy = (uy - off) * inv_cell - half, fz = (uz - off) * inv_cell - half;
-    // floor(f), exact for f >= -2 (anything below lands below -1: outside).
-    const v8f two = v8f_splat(2.f);
-    const v8i cx = v8_trunc(fx + two) - 2, cy = v8_trunc(fy + two) - 2, cz = v8_trunc(fz + two) - 2;
-    const v8f tx = fx - v8_float(cx), ty = fy - v8_float(cy), tz = fz - v8_float(cz);
-    // The cube's low corner in [-1, cells - 1] on every axis (as unsigned: cell + 1 < cells + 1).
-    const v8i one = v8i_splat(1);
-    const v8i inside = (v8u(cx + one) < v8u(v8i_splat(cells_.x() + 1))) & (v8u(cy + one) < v8u(v8i_splat(cells_.y() + 1))) &
-                       (v8u(cz + one) < v8u(v8i_splat(cells_.z() + 1)));
-    const v8i index =
-        ((cx + one) + v8i_splat(static_cast<std::int32_t>(field_sy_)) * (cy + one) +
-         v8i_splat(static_cast<std::int32_t>(field_sz_)) * (cz + one)) & inside;  // outside lanes read entry 0
+    // s = floor(f) + 1, the cube's low corner in the field's array (ring included), exact for
+    // f >= -2; unsigned, so lanes far outside (or NaN) wrap around instead of overflowing.
+    const v8f two = v8f_splat(2.f), one = v8f_splat(1.f);
+    const v8u sx = v8u(v8_trunc(fx + two)) - 1u, sy = v8u(v8_trunc(fy + two)) - 1u, sz = v8u(v8_trunc(fz + two)) - 1u;
+    const v8f tx = fx + one - v8_float(v8i(sx)), ty = fy + one - v8_float(v8i(sy)), tz = fz + one - v8_float(v8i(sz));
+    // Inside: the low corner in [-1, cells - 1] on every axis, i.e. s < cells + 1.
+    const v8i inside = (sx < v8u(v8i_splat(cells_.x() + 1))) & (sy < v8u(v8i_splat(cells_.y() + 1))) &
+                       (sz < v8u(v8i_splat(cells_.z() + 1)));
+    const v8u index = (sx + v8u(v8i_splat(static_cast<std::int32_t>(field_sy_))) * sy +
+                       v8u(v8i_splat(static_cast<std::int32_t>(field_sz_))) * sz) &
+                      v8u(inside);  // outside lanes read entry 0
     // Per lane two 32-bit words of bytes: (x, y), (x+1, y), (x, y+1), (x+1, y+1) of the cube's
     // low face (lo) and high face (hi), two bytes per load.
     const std::uint8_t* values = clearance_.data();
-    const std::size_t sy = field_sy_, sz = field_sz_;
+    const std::size_t row = field_sy_, slice = field_sz_;
     v8i lo, hi;
     for (int i = 0; i < 8; ++i) {
-      const std::uint8_t* q = values + static_cast<std::uint32_t>(index[i]);
+      const std::uint8_t* q = values + index[i];
       std::uint16_t a, b, c, d;
       std::memcpy(&a, q, 2);
-      std::memcpy(&b, q + sy, 2);
-      std::memcpy(&c, q + sz, 2);
-      std::memcpy(&d, q + sz + sy, 2);
+      std::memcpy(&b, q + row, 2);
+      std::memcpy(&c, q + slice, 2);
+      std::memcpy(&d, q + slice + row, 2);
       lo[i] = static_cast<std::int32_t>(a | (static_cast<std::uint32_t>(b) << 16));
       hi[i] = static_cast<std::int32_t>(c | (static_cast<std::uint32_t>(d) << 16));
     }
@@ -262,8 +263,7 @@ class MapKernel {
     const v8f e00 = v000 + tx * (v100 - v000), e10 = v010 + tx * (v110 - v010);
     const v8f e01 = v001 + tx * (v101 - v001), e11 = v011 + tx * (v111 - v011);
     const v8f e0 = e00 + ty * (e10 - e00), e1 = e01 + ty * (e11 - e01);
-    const v8f ones = v8f_splat(1.f);
-    const v8f var = tx * (ones - tx) + ty * (ones - ty) + tz * (ones - tz);
+    const v8f var = tx * (one - tx) + ty * (one - ty) + tz * (one - tz);
     const v8f b2 = e0 + tz * (e1 - e0) - v8f_splat(kCellUnits2) * var - v8f_splat(float_slack2_);
     const v8f n = need + v8f_splat(kFloatSlackUnits);
     // Outside lanes: offsets t may lie outside [0, 1) there, so the variance term is no bound.
