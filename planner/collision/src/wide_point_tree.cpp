@@ -30,7 +30,11 @@ void split(std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t
       return std::tie(p[a], p[b], p[c]) < std::tie(q[a], q[b], q[c]);
     };
   };
-  const std::uint32_t lo = std::max<std::uint32_t>(1, blocks / 4), hi = blocks - lo;
+  std::uint32_t lo = std::max<std::uint32_t>(1, blocks / 4), hi = blocks - lo;
+  if (blocks <= static_cast<std::uint32_t>(parts)) {  // then each half must fit its parts: one block per group
+    lo = std::max(lo, blocks - static_cast<std::uint32_t>(parts - parts / 2));
+    hi = std::min(hi, static_cast<std::uint32_t>(parts / 2));
+  }
   int axis = 0;
   std::uint32_t cut = blocks / 2;
   float best = std::numeric_limits<float>::infinity();

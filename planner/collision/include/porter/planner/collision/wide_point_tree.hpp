@@ -12,15 +12,18 @@
 // Build: a node's points are cut in two, and each half again, until there are eight groups (or
 // a group is one block); every cut falls after a whole number of blocks of eight points, so every
 // block except at most one per node is full, and a set of at most 64 points is one node over
-// blocks. A cut is placed between a quarter and three quarters of the blocks, along the axis and
+// blocks. A cut is placed between a quarter and three quarters of the blocks (and, once a node's
+// blocks fit its eight groups, so that each half's blocks fit its groups), along the axis and
 // at the place where the two halves' boxes have the smallest sum of diagonals. Why not the median
 // of the longest axis (the rule before): equal halves of a T-shaped payload mix stem and crossbar,
-// giving first-level spheres of 0.29 m where the T's own pieces need 0.06-0.11 m; with the cost
-// rule the payload's walk tests 1.2 nodes per free-near forest check instead of 1.7, and a batched
-// check took 283 ns instead of 319 in the forest, 231 instead of 246 in the tunnel (A/B, 20 000
-// configurations, alternating runs). Building every kernel and sample tree of the shipped robot
-// takes ~80 ms longer (three sorts per cut). Sphere centres are box centres, radii the largest
-// distance to a point, rounded up by a relative 1e-6 so float rounding never shrinks a sphere.
+// giving two first-level spheres of 0.29 m; with the cost rule one sphere of 0.27 m is left (the
+// T's junction) and the other seven are 0.06-0.13 m; the payload's walk tests 1.2 nodes per
+// free-near forest check instead of 1.7, and a batched check took 283 ns instead of 319 in the
+// forest, 231 instead of 246 in the tunnel (A/B, 20 000 configurations, alternating runs; the
+// fit rule for small nodes, which keeps trees a level shallower, then 276 vs 280 ns). Building
+// every kernel and sample tree of the shipped robot takes ~80 ms longer (three sorts per cut).
+// Sphere centres are box centres, radii the largest distance to a point, rounded up by a
+// relative 1e-6 so float rounding never shrinks a sphere.
 //
 // Why not the binary PointTreePool (point_tree.hpp): a binary walk tests one sphere per branch
 // (one mispredicted branch and one table lookup each); here one node test costs about as many
