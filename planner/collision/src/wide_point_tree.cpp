@@ -55,7 +55,7 @@ void split(std::vector<Eigen::Vector3f>& pts, std::uint32_t begin, std::uint32_t
       }
     }
   }
-  std::sort(pts.begin() + begin, pts.begin() + end, by_axis(axis));
+  if (axis != 2) std::sort(pts.begin() + begin, pts.begin() + end, by_axis(axis));  // 2: sorted last
   const std::uint32_t mid = begin + 8 * cut;
   split(pts, begin, mid, parts / 2, out);
   split(pts, mid, end, parts - parts / 2, out);
