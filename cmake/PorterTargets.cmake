@@ -16,3 +16,41 @@ function(porter_add_test name)
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
     PROPERTIES ENVIRONMENT "PORTER_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()
+
+# porter_add_fuzz_target(name SOURCE fuzz_x.cpp LIBS x y [MAX_LEN n] [RUNS n])
+# A fuzz target is one source file defining LLVMFuzzerTestOneInput for a decoder of outside
+# bytes (CAN frames, serial lines, UDP packets, LCM messages, files). It is built twice:
+# - always (with the tests): `porter-fuzz-random-<name>`, a CTest test that feeds the target its
+#   seed corpus (tests/fuzz/corpus/<name>/ when present), mutations of the seeds and random
+#   inputs, a bounded number of runs with a fixed seed (the suite's random-input test);
+# - with -DPORTER_BUILD_FUZZ=ON under clang (scripts/fuzz): `porter-fuzz-<name>`, a libFuzzer
+#   binary with ASan/UBSan, run for a bounded time by scripts/fuzz.
+function(porter_add_fuzz_target name)
+  cmake_parse_arguments(ARG "" "SOURCE;MAX_LEN;RUNS" "LIBS" ${ARGN})
+  if(NOT ARG_MAX_LEN)
+    set(ARG_MAX_LEN 4096)
+  endif()
+  if(NOT ARG_RUNS)
+    set(ARG_RUNS 20000)
+  endif()
+  set(_corpus ${PROJECT_SOURCE_DIR}/tests/fuzz/corpus/${name})
+  if(PORTER_BUILD_FUZZ)
+    add_executable(porter-fuzz-${name} ${ARG_SOURCE})
+    porter_target_defaults(porter-fuzz-${name})
+    target_link_libraries(porter-fuzz-${name} PRIVATE ${ARG_LIBS})
+    target_compile_options(porter-fuzz-${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+    target_link_options(porter-fuzz-${name} PRIVATE -fsanitize=fuzzer,address,undefined)
+    set_target_properties(porter-fuzz-${name} PROPERTIES
+      RUNTIME_OUTPUT_DIRECTORY ${PROJECT_BINARY_DIR}/fuzz)
+  elseif(PORTER_BUILD_TESTS)
+    add_executable(porter-fuzz-random-${name} ${ARG_SOURCE}
+      ${PROJECT_SOURCE_DIR}/tests/fuzz/support/random_driver.cpp)
+    porter_target_defaults(porter-fuzz-random-${name})
+    target_link_libraries(porter-fuzz-random-${name} PRIVATE ${ARG_LIBS})
+    add_test(NAME fuzz_random.${name}
+      COMMAND porter-fuzz-random-${name} --runs ${ARG_RUNS} --max-len ${ARG_MAX_LEN}
+              --corpus ${_corpus})
+    set_tests_properties(fuzz_random.${name} PROPERTIES LABELS fuzz WORKING_DIRECTORY
+      ${CMAKE_CURRENT_BINARY_DIR})
+  endif()
+endfunction()

@@ -12,7 +12,7 @@
 #include "porter/core/load_error.hpp"
 #include "porter/core/mesh_loader.hpp"
 #include "porter/core/scene_random.hpp"
-#include "yaml_reader.hpp"
+#include "porter/core/yaml_reader.hpp"
 
 namespace porter {
 namespace {

@@ -1,4 +1,4 @@
-#include "yaml_reader.hpp"
+#include "porter/core/yaml_reader.hpp"
 
 #include <cmath>
 #include <filesystem>

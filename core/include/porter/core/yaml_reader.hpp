@@ -1,5 +1,6 @@
 #pragma once
-// Strict YAML reading for Porter's config files (internal to porter_core_io).
+// Strict YAML reading for Porter's config files (porter::core_io; processes use it for their own
+// configs, so every config error reads the same way).
 //
 // Every accessor names the file and the full key path in its LoadError, e.g.
 //   "config/robots/x/robot.yaml: key 'base.wheel_radius_m': expected a number, got 'abc'".

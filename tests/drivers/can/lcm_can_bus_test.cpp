@@ -1,0 +1,79 @@
+// The LCM-carried CAN bus over a private udpm port: frames cross between endpoints, an endpoint
+// skips its own frames, malformed messages are counted and dropped, bad specs fail clearly.
+#include <gtest/gtest.h>
+
+#include "porter/can/can_transport.hpp"
+#include "porter/can/lcm_can_bus.hpp"
+#include "porter/lcm_bus.hpp"
+
+namespace porter::can {
+namespace {
+
+// A port no other test uses, so parallel CTest runs do not cross.
+const std::string kUrl = "udpm://239.255.76.67:7711?ttl=0";
+
+CanFrame frame(std::uint32_t id, std::initializer_list<std::uint8_t> bytes) {
+  CanFrame f;
+  f.id = id;
+  for (std::uint8_t b : bytes) f.data[f.dlc++] = b;
+  return f;
+}
+
+TEST(LcmCanBus, FramesCrossBetweenNodesAndSkipTheSender) {
+  auto driver = open_can_bus("lcm:CAN_BASE@" + kUrl, "porter-base");
+  auto firmware = open_can_bus("lcm:CAN_BASE@" + kUrl, "porter-sim");
+  ASSERT_TRUE(driver->is_open()) << driver->last_error();
+  ASSERT_TRUE(firmware->is_open()) << firmware->last_error();
+  ASSERT_EQ(driver->send(frame(0x111, {0x00, 0x96, 0, 0, 0, 0, 0, 0})), CanStatus::ok);
+  CanFrame got;
+  ASSERT_EQ(firmware->receive(got, 2000), CanStatus::ok);
+  EXPECT_EQ(got, frame(0x111, {0x00, 0x96, 0, 0, 0, 0, 0, 0}));
+  EXPECT_NE(got.utime, 0);
+  // The driver's own frame came back over multicast and was skipped.
+  EXPECT_EQ(driver->receive(got, 100), CanStatus::timeout);
+  ASSERT_EQ(firmware->send(frame(0x211, {0, 1})), CanStatus::ok);
+  ASSERT_EQ(driver->receive(got, 2000), CanStatus::ok);
+  EXPECT_EQ(got.id, 0x211u);
+  EXPECT_EQ(got.dlc, 2);
+}
+
+TEST(LcmCanBus, MalformedMessagesAreCountedAndDropped) {
+  LcmCanBus node(channels::kCanArm.info, kUrl, "porter-arm");
+  ASSERT_TRUE(node.is_open());
+  LcmBus raw(kUrl);
+  porter::can_frame_t bad;
+  bad.sender = "intruder";
+  bad.id = 0x155;
+  bad.dlc = 3;
+  bad.data = {1, 2, 3};
+  bad.id = 0x900;  // too large for a standard ID
+  ASSERT_TRUE(raw.publish(channels::kCanArm, bad));
+  bad.id = 0x155;
+  bad.extended = true;
+  bad.id = -5;
+  ASSERT_TRUE(raw.publish(channels::kCanArm, bad));
+  bad.extended = false;
+  bad.id = 0x2A5;
+  ASSERT_TRUE(raw.publish(channels::kCanArm, bad));  // valid
+  CanFrame got;
+  ASSERT_EQ(node.receive(got, 2000), CanStatus::ok);
+  EXPECT_EQ(got.id, 0x2A5u);
+  EXPECT_EQ(node.malformed(), 2u);
+}
+
+TEST(CanTransport, BadSpecsGiveClosedBusesThatSayWhy) {
+  for (const char* spec : {"", "can0", "bogus:x", "lcm:", "lcm:ROBOT_STATE", "lcm:NOPE"}) {
+    auto bus = open_can_bus(spec, "t");
+    EXPECT_FALSE(bus->is_open()) << spec;
+    EXPECT_NE(bus->last_error().find('\''), std::string::npos) << bus->last_error();
+    CanFrame f;
+    EXPECT_EQ(bus->send(frame(1, {})), CanStatus::closed);
+    EXPECT_EQ(bus->receive(f, 0), CanStatus::closed);
+  }
+  auto mem = open_can_bus("memory:spec_test", "t");
+  EXPECT_TRUE(mem->is_open());
+  EXPECT_EQ(mem->describe(), "memory:spec_test");
+}
+
+}  // namespace
+}  // namespace porter::can
