@@ -23,8 +23,10 @@
 // 0 and v_r, omega_r bounded with bounded derivatives, Barbalat's lemma): e_y is driven only
 // through v_r, so a base at rest corrects e_x and e_yaw but not a pure cross-track offset.
 // Linearised about a straight line at speed v_r, e_x decays at rate k_x and (e_y, e_yaw) obey
-// s^2 + k_yaw |v_r| s + k_y v_r^2 = 0: natural frequency |v_r| sqrt(k_y) (a spatial frequency of
-// sqrt(k_y) rad per metre travelled) and damping k_yaw / (2 sqrt(k_y)), independent of speed.
+// s^2 + (k_yaw |v_r| + k_yaw_rest) s + k_y v_r^2 = 0: natural frequency |v_r| sqrt(k_y) (a spatial
+// frequency of sqrt(k_y) rad per metre travelled) and damping (k_yaw + k_yaw_rest / |v_r|) /
+// (2 sqrt(k_y)). k_yaw_rest is there for the heading at low speed; it over-damps (slows) the
+// lateral convergence, so it is kept small and k_yaw chosen for damping 1 at cruise speed.
 // The limits below only scale the command, so they keep its direction in wheel space; a command
 // the limits cut is no longer the law's and the Lyapunov argument holds only while unsaturated.
 //
@@ -56,8 +58,8 @@ struct BaseReference {
 struct TrackingGains {
   double k_x_1ps = 1.5;          ///< along-track gain, 1/s (> 0)
   double k_y_1pm2 = 4.0;         ///< cross-track gain, 1/m^2 (> 0)
-  double k_yaw_1pm = 4.0;        ///< heading gain per metre travelled, 1/m (>= 0)
-  double k_yaw_rest_1ps = 1.0;   ///< heading gain independent of speed, 1/s (>= 0)
+  double k_yaw_1pm = 3.0;        ///< heading gain per metre travelled, 1/m (>= 0)
+  double k_yaw_rest_1ps = 0.5;   ///< heading gain independent of speed, 1/s (>= 0)
 };
 
 /// A base velocity command (of B, expressed in B).
