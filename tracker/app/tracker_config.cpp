@@ -64,7 +64,12 @@ TrackerConfig load_tracker_config(const std::string& path) {
   out.arm_speed_pct = arm.get("speed_pct").as_positive();
   if (out.arm_speed_pct > 100.0) arm.get("speed_pct").fail("must be in (0, 100]");
 
-  const RobotModel robot = load_robot_model(out.robot_file);
+  RobotModel robot;
+  try {
+    robot = load_robot_model(out.robot_file);
+  } catch (const LoadError& e) {
+    throw LoadError(path, "key 'robot'", e.what());
+  }
   p.base_limits = robot.base;
   p.joint_velocity_max_radps = robot.velocity_limits();
   try {
