@@ -378,3 +378,29 @@ TEST(Tracker, InvalidParamsThrow) {
 
 }  // namespace
 }  // namespace porter::tracker
+
+namespace porter::tracker {
+namespace {
+
+TEST(Tracker, OverflowingTrajectoryFaultsInsteadOfCommandingNonFiniteValues) {
+  // Finite coefficients whose evaluation overflows (found by the fuzz target: the hold at the end
+  // commanded infinite joint angles).
+  TrajectoryPiece piece;
+  piece.duration_s = 1e3;
+  piece.coeffs(5, 2) = 1e300;  // q1 = 1e300 t^5
+  TrajectoryResult r = Trajectory::create({piece}, 0.0);
+  ASSERT_TRUE(r.ok());
+  Tracker tracker(params());
+  ASSERT_TRUE(tracker.on_trajectory({*r.trajectory, kT0, kT0, 1, "world"}, kT0).accepted);
+  tracker.on_state(state_at({}), kT0 + 2'000'000'000);
+  const TrackerOutput& end = tracker.step(kT0 + 2'000'000'000);  // past the end
+  EXPECT_EQ(end.state, TrackerState::fault);
+  expect_zero(end);
+  Tracker during(params());
+  ASSERT_TRUE(during.on_trajectory({*r.trajectory, kT0, kT0, 1, "world"}, kT0).accepted);
+  during.on_state(state_at({}), kT0 + 500'000'000);
+  EXPECT_EQ(during.step(kT0 + 500'000'000).state, TrackerState::fault);
+}
+
+}  // namespace
+}  // namespace porter::tracker

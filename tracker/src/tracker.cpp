@@ -15,6 +15,20 @@ std::string fmt(const char* format, double a, double b = 0.0) {
   return buffer;
 }
 
+// Text from the network echoed in messages: printable ASCII only (an embedded NUL would make the
+// status message fail to encode), at most 64 characters.
+std::string printable(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    if (out.size() == 64) {
+      out += "...";
+      break;
+    }
+    out += (c >= 0x20 && c < 0x7f) ? c : '?';
+  }
+  return out;
+}
+
 bool finite_pose(const BasePose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad);
 }
@@ -79,7 +93,7 @@ OfferResult Tracker::on_trajectory(TrajectoryOffer offer, std::int64_t receive_u
   };
   if (estop_latched_) return refuse("e-stop engaged");
   if (offer.frame_id != params_.frame_id) {
-    return refuse("frame '" + offer.frame_id + "', expected '" + params_.frame_id + "'");
+    return refuse("frame '" + printable(offer.frame_id) + "', expected '" + params_.frame_id + "'");
   }
   const double age_s = static_cast<double>(receive_utime - offer.utime) * 1e-6;
   if (age_s > params_.trajectory_max_age_s) {
@@ -98,12 +112,14 @@ OfferResult Tracker::on_trajectory(TrajectoryOffer offer, std::int64_t receive_u
 
 void Tracker::on_invalid_trajectory(std::int64_t plan_id, const std::string& reason) {
   ++refused_;
-  last_refusal_ = "plan " + std::to_string(plan_id) + " refused: " + reason;
+  last_refusal_ = "plan " + std::to_string(plan_id) + " refused: " + printable(reason);
 }
 
 void Tracker::on_estop(bool active, const std::string& reason, std::int64_t receive_utime) {
   if (active) {
-    if (!estop_latched_) estop_reason_ = reason.empty() ? std::string("ESTOP active") : reason;
+    if (!estop_latched_) {
+      estop_reason_ = reason.empty() ? std::string("ESTOP active") : printable(reason);
+    }
     estop_latched_ = true;
     return;
   }
@@ -209,8 +225,18 @@ const TrackerOutput& Tracker::step(std::int64_t now_utime) {
     const double position_error_m =
         std::hypot(out_.error_reference_frame.x_m, out_.error_reference_frame.y_m);
     const double yaw_error_rad = std::abs(out_.error_reference_frame.yaw_rad);
-    if (!finished && (position_error_m > params_.max_position_error_m ||
-                      yaw_error_rad > params_.max_yaw_error_rad)) {
+    const bool sample_finite = sample.z.allFinite() && sample.z_dot.allFinite() &&
+                               std::isfinite(ref.pose.yaw_rad) && std::isfinite(ref.v_mps) &&
+                               std::isfinite(ref.omega_radps);
+    if (!sample_finite) {
+      // Finite coefficients can still overflow when evaluated (huge values from the network).
+      fault_ = true;
+      fault_message_ = fmt("trajectory sample at t = %.3f s is not finite; waiting for a new "
+                           "trajectory", t_eval);
+      command_zero();
+      set_state(TrackerState::fault, fault_message_);
+    } else if (!finished && (position_error_m > params_.max_position_error_m ||
+                             yaw_error_rad > params_.max_yaw_error_rad)) {
       fault_ = true;
       fault_message_ = fmt("tracking error %.3f m, %.3f rad beyond the limits", position_error_m,
                            yaw_error_rad) +
