@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <exception>
 #include <string>
+#include <string_view>
 
 #include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
@@ -27,7 +28,7 @@ namespace {
 
 // Logs an input's freshness changes ("BASE_STATE stale" / "BASE_STATE fresh again").
 struct Freshness {
-  const char* name;
+  std::string_view name;
   bool known = false;
   bool fresh = false;
   void update(bool now_fresh, bool ever) {
@@ -110,7 +111,8 @@ int main(int argc, char** argv) {
 
   rt::PeriodicLoop loop(1.0 / config.rate_hz);
   rt::Heartbeat heartbeat(bus, porter::state_app::kProcessName);
-  Freshness base{"BASE_STATE"}, arm{"ARM_STATE"}, pose{"pose"};
+  Freshness base{porter::channels::kBaseState.name()}, arm{porter::channels::kArmState.name()},
+      pose{"pose"};
   st::PoseSource source = st::PoseSource::none;
   bool estop = false;
   const auto stats_every = static_cast<std::uint64_t>(60.0 * config.rate_hz);

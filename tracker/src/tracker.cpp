@@ -42,7 +42,7 @@ const char* to_string(TrackerState state) {
     case TrackerState::finished: return "FINISHED";
     case TrackerState::stale_state: return "STALE_STATE";
     case TrackerState::stale_trajectory: return "STALE_TRAJECTORY";
-    case TrackerState::estop: return "ESTOP";
+    case TrackerState::estop: return "E-STOP";
     case TrackerState::fault: return "FAULT";
   }
   return "UNKNOWN";
