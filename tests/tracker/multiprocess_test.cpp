@@ -1,0 +1,216 @@
+// porter-state and porter-tracker as processes on a private udpm port, fed by this test: a
+// simulated base (a unicycle obeying BASE_CMD, reporting BASE_STATE at 50 Hz) and arm (obeying
+// ARM_CMD, reporting ARM_STATE at 100 Hz); a TRAJECTORY is sent and the robot must follow it to
+// its end; then BASE_STATE stops and BASE_CMD must turn disabled. Processes are started here and
+// stopped by PID.
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <fcntl.h>
+
+#include <chrono>
+#include <functional>
+#include <cmath>
+#include <fstream>
+#include <string>
+#include <thread>
+
+#include "porter/channels.hpp"
+#include "porter/lcm_bus.hpp"
+#include "porter/msg/trajectory_msg.hpp"
+#include "porter/runtime/clock.hpp"
+#include "trajectory_fixtures.hpp"
+
+namespace porter {
+namespace {
+
+const std::string kUrl = "udpm://239.255.76.67:7753?ttl=0";
+
+// A child process, SIGTERMed (then SIGKILLed) when the test ends whatever happens.
+class Child {
+ public:
+  Child(const std::string& binary, const std::vector<std::string>& args, const std::string& log) {
+    pid_ = fork();
+    if (pid_ == 0) {
+      const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      if (fd >= 0) dup2(fd, STDERR_FILENO);
+      std::vector<char*> argv{const_cast<char*>(binary.c_str())};
+      for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+      argv.push_back(nullptr);
+      execv(binary.c_str(), argv.data());
+      _exit(127);
+    }
+  }
+  ~Child() {
+    if (pid_ > 0 && !reaped_) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  /// SIGTERM, then waits up to 5 s; returns the exit status (-1 when it had to be killed).
+  int stop() {
+    kill(pid_, SIGTERM);
+    for (int i = 0; i < 500; ++i) {
+      int status = 0;
+      if (waitpid(pid_, &status, WNOHANG) == pid_) {
+        reaped_ = true;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return -1;
+  }
+
+ private:
+  pid_t pid_ = -1;
+  bool reaped_ = false;
+};
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
+  const std::string dir = testing::TempDir();
+  // The shipped tracker config, without SCHED_FIFO (tests share the machine), robot path absolute.
+  std::string config = read_file(std::string(PORTER_SOURCE_DIR) +
+                                 "/config/tracker/porter_tracker.yaml");
+  config.replace(config.find("sched_fifo: true"), 16, "sched_fifo: false");
+  config.replace(config.find("robot: ../robots/"), 17,
+                 "robot: " + std::string(PORTER_SOURCE_DIR) + "/config/robots/");
+  const std::string config_path = dir + "/porter_tracker_multiprocess.yaml";
+  std::ofstream(config_path) << config;
+
+  LcmBus bus(kUrl);
+  ASSERT_TRUE(bus.good());
+  robot_state_t last_state;
+  int states = 0;
+  base_cmd_t last_cmd;
+  int cmds = 0;
+  arm_cmd_t last_arm;
+  bool arm_cmd = false;
+  bool finished_seen = false;
+  bus.subscribe(channels::kRobotState, [&](const robot_state_t& m) { last_state = m; ++states; });
+  bus.subscribe(channels::kBaseCmd, [&](const base_cmd_t& m) { last_cmd = m; ++cmds; });
+  bus.subscribe(channels::kArmCmd, [&](const arm_cmd_t& m) { last_arm = m; arm_cmd = true; });
+  bus.subscribe(channels::kTrackerStatus, [&](const tracker_status_t& m) {
+    if (m.state == tracker_status_t::STATE_FINISHED) finished_seen = true;
+  });
+
+  Child state(PORTER_STATE_BIN, {"--lcm-url", kUrl}, dir + "/porter_state_multiprocess.log");
+  Child tracker(PORTER_TRACKER_BIN, {"--lcm-url", kUrl, "--config", config_path},
+                dir + "/porter_tracker_multiprocess.log");
+  ASSERT_GT(state.pid(), 0);
+  ASSERT_GT(tracker.pid(), 0);
+
+  // The simulated robot.
+  BasePose pose;
+  JointVector q = JointVector::Zero();
+  bool feed_base = true;
+  std::int64_t last_sim = runtime::wall_utime(), last_base = 0, last_arm_pub = 0;
+  auto run = [&](double seconds, const std::function<bool()>& until) {
+    const std::int64_t end = runtime::wall_utime() + static_cast<std::int64_t>(seconds * 1e6);
+    while (runtime::wall_utime() < end) {
+      bus.handle_pending();
+      const std::int64_t now = runtime::wall_utime();
+      const double dt = static_cast<double>(now - last_sim) * 1e-6;
+      last_sim = now;
+      if (cmds > 0 && last_cmd.enabled && now - last_cmd.utime < 200'000) {
+        pose.x_m += last_cmd.v_mps * std::cos(pose.yaw_rad) * dt;
+        pose.y_m += last_cmd.v_mps * std::sin(pose.yaw_rad) * dt;
+        pose.yaw_rad += last_cmd.omega_radps * dt;
+      }
+      if (arm_cmd && last_arm.enabled) {
+        for (int j = 0; j < 6; ++j) q[j] = last_arm.q_rad[static_cast<std::size_t>(j)];
+      }
+      if (feed_base && now - last_base >= 20'000) {
+        base_state_t b{};
+        b.utime = now;
+        b.odom_x_m = pose.x_m;
+        b.odom_y_m = pose.y_m;
+        b.odom_yaw_rad = pose.yaw_rad;
+        b.v_mps = last_cmd.enabled ? last_cmd.v_mps : 0.0;
+        b.omega_radps = last_cmd.enabled ? last_cmd.omega_radps : 0.0;
+        b.num_motors = 0;
+        b.link_ok = true;
+        bus.publish(channels::kBaseState, b);
+        last_base = now;
+      }
+      if (now - last_arm_pub >= 10'000) {
+        arm_state_t a{};
+        a.utime = now;
+        a.num_joints = 6;
+        a.q_rad.assign(q.data(), q.data() + 6);
+        a.qd_radps.assign(6, 0.0);
+        a.effort_nm.assign(6, 0.0);
+        a.motor_temperature_c.assign(6, 30.0);
+        a.joint_status_bits.assign(6, 0);
+        a.joint_enabled.assign(6, true);
+        a.enabled = a.link_ok = true;
+        bus.publish(channels::kArmState, a);
+        last_arm_pub = now;
+      }
+      if (until && until()) return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return false;
+  };
+
+  // 1. porter-state fuses the inputs; porter-tracker is idle (commands disabled).
+  ASSERT_TRUE(run(10.0, [&] {
+    return states > 0 && last_state.base_valid && last_state.arm_valid && last_state.pose_valid &&
+           cmds > 0;
+  })) << read_file(dir + "/porter_state_multiprocess.log")
+      << read_file(dir + "/porter_tracker_multiprocess.log");
+  EXPECT_EQ(last_state.pose_source, robot_state_t::POSE_WHEEL_ODOM);
+  EXPECT_EQ(last_state.num_joints, 6);
+  EXPECT_FALSE(last_cmd.enabled);
+  EXPECT_EQ(last_cmd.plan_id, -1);
+
+  // 2. A trajectory: 0.4 m/s along x with joint 1 to 0.5 rad, starting 0.3 s from now.
+  const Trajectory traj = test::straight(0.4, 1.0, +1);
+  const std::int64_t start = runtime::wall_utime() + 300'000;
+  minco_trajectory_t msg = to_msg(traj, start, 1, "world", "");
+  msg.utime = runtime::wall_utime();
+  bus.publish(channels::kTrajectory, msg);
+  double max_v = 0.0;
+  run(0.25, {});
+  EXPECT_FALSE(last_cmd.enabled);  // not before its start
+  run(traj.total_duration_s() + 0.6, [&] {
+    max_v = std::max(max_v, last_cmd.v_mps);
+    return false;
+  });
+  EXPECT_TRUE(finished_seen);
+  EXPECT_GT(max_v, 0.3);
+  const TrajVector end = traj.position(traj.total_duration_s());
+  EXPECT_NEAR(pose.x_m, end[0], 0.05) << read_file(dir + "/porter_tracker_multiprocess.log");
+  EXPECT_NEAR(pose.y_m, 0.0, 0.02);
+  EXPECT_NEAR(q[0], end[2], 1e-9);  // the arm holds the final joint angles
+  EXPECT_NEAR(last_state.x_m, pose.x_m, 0.01);
+  EXPECT_TRUE(last_cmd.enabled);  // holding at the end
+  EXPECT_EQ(last_cmd.v_mps, 0.0);
+  EXPECT_EQ(last_cmd.plan_id, 1);
+
+  // 3. The base driver goes silent: ROBOT_STATE flags it and the commands turn disabled.
+  feed_base = false;
+  EXPECT_TRUE(run(1.0, [&] { return !last_state.base_valid && !last_cmd.enabled; }));
+
+  // 4. It comes back: valid again (and porter-state survived the gap).
+  feed_base = true;
+  EXPECT_TRUE(run(1.0, [&] { return last_state.base_valid; }));
+
+  EXPECT_EQ(tracker.stop(), 0);
+  EXPECT_EQ(state.stop(), 0);
+  const std::string log = read_file(dir + "/porter_tracker_multiprocess.log");
+  EXPECT_NE(log.find("plan 1 accepted"), std::string::npos) << log;
+  EXPECT_NE(log.find("state FINISHED"), std::string::npos) << log;
+  EXPECT_NE(log.find("period jitter"), std::string::npos) << log;
+}
+
+}  // namespace
+}  // namespace porter
