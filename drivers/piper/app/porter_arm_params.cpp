@@ -1,16 +1,24 @@
 #include "porter_arm_params.hpp"
 
+#include <cstdio>
+
 #include "porter/core/robot_loader.hpp"
 #include "porter/core/yaml_reader.hpp"
 
 namespace porter::piper {
 namespace {
 
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
 double in_range(const yaml::Reader& r, double lo, double hi, bool lo_open) {
   const double v = r.as_double();
-  if ((lo_open ? v <= lo : v < lo) || v > hi) {
-    r.fail("expected a number in " + std::string(lo_open ? "(" : "[") + std::to_string(lo) + ", " +
-           std::to_string(hi) + "], got " + std::to_string(v));
+  if (!(lo_open ? v > lo : v >= lo) || !(v <= hi)) {
+    r.fail("expected a number in " + std::string(lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + "], got " +
+           num(v));
   }
   return v;
 }
