@@ -198,6 +198,11 @@ void PiperFirmware::step_physics() {
       q = q_new;
       v = v_new;
     }
+    // The hard stops: braking from full speed toward a target at a limit may not overshoot it.
+    if (q < p_.lower_rad[j] || q > p_.upper_rad[j]) {
+      q = std::clamp(q, p_.lower_rad[j], p_.upper_rad[j]);
+      v = 0.0;
+    }
   }
   if (truth_.gripper_enabled) {
     const double d = truth_.gripper_target_m - truth_.gripper_m;
