@@ -6,6 +6,7 @@
 //   porter-arm [--config config/drivers/porter_arm.yaml]
 //
 // Exit codes: 0 clean shutdown, 1 LCM unusable, 2 bad arguments or config.
+#include <cstdio>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -64,8 +65,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   rt::install_stop_handlers();
-  rt::log_info("config " + config + ": bus " + params.can_bus + ", loop " + std::to_string(params.loop_rate_hz) +
-               " Hz, joint limits from " + params.robot_yaml);
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g", params.loop_rate_hz);
+  rt::log_info("config " + config + ": bus " + params.can_bus + ", loop " + rate + " Hz, joint limits from " +
+               params.robot_yaml);
 
   porter::LcmBus lcm(params.lcm_url);
   if (!lcm.good()) {
