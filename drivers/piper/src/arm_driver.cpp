@@ -212,6 +212,7 @@ void ArmDriver::step(double t_s, std::vector<can::CanFrame>& out) {
   const bool link = link_ok(t_s);
   if (link != link_was_ok_) {
     if (link) {
+      link_up_t_ = t_s;
       event(ArmEvent::Level::info, "link up: status and joint feedback arriving");
     } else if (fb_.have_status) {
       event(ArmEvent::Level::warn,
@@ -418,12 +419,15 @@ ArmDriverStatus ArmDriver::status(double t_s) const {
     if (arm_status_is_fault(fb_.arm_status)) s.faults.push_back(arm_status_name(fb_.arm_status));
     append_err_code_names(fb_.err_code, s.faults);
   }
+  // Motor frames never received count as stale only once the link has been up for the timeout
+  // (the 40 Hz frames may follow the first status by up to 25 ms).
+  auto stale = [&](double received_t) {
+    const double since = received_t >= 0.0 ? received_t : link_up_t_;
+    return link_up_t_ >= 0.0 && t_s - since > p_.motor_feedback_timeout_s;
+  };
   bool motor_stale = false;
   for (int j = 0; j < kNumJoints; ++j) {
-    if (high_t_[j] < 0.0 || low_t_[j] < 0.0 || t_s - high_t_[j] > p_.motor_feedback_timeout_s ||
-        t_s - low_t_[j] > p_.motor_feedback_timeout_s) {
-      motor_stale = true;
-    }
+    if (stale(high_t_[j]) || stale(low_t_[j])) motor_stale = true;
     append_driver_status_names(fb_.driver_status[j] & kDriverFaultMask, "joint" + std::to_string(j + 1) + "_",
                                s.faults);
   }

@@ -60,6 +60,7 @@ TEST_P(ArmDriverOverBus, EnableSequenceEnablesThenSetsCanModeThenStreams) {
   EXPECT_TRUE(rig.saw_event("enabling -> setting_mode: every joint reports enabled"));
   EXPECT_TRUE(rig.saw_event("setting_mode -> active"));
   EXPECT_TRUE(rig.saw_event("no ARM_CMD yet: holding"));
+  EXPECT_FALSE(rig.saw_event("motor_feedback_stale"));  // the 40 Hz frames follow within 25 ms
   // With no command the driver holds where the arm is and reports no fault.
   rig.run(0.3);
   const ArmDriverStatus s = rig.driver.status(rig.t);
@@ -287,6 +288,43 @@ TEST_P(ArmDriverOverBus, EmergencyStopHoldsUntilReleasedThenRecovers) {
   rig.run(1.5);
   EXPECT_EQ(rig.fw.truth().q_rad[0], 0.0);
   EXPECT_FALSE(rig.driver.status(rig.t).fault);
+}
+
+TEST(ArmDriver, MalformedFramesAreCountedAndLoggedOncePerId) {
+  ArmDriver driver(rig_driver_params());
+  CanFrame short_angles = encode_joint_angle_pair({0, {1000, 2000}});
+  short_angles.dlc = 3;
+  driver.on_frame(short_angles, 0.0);
+  driver.on_frame(short_angles, 0.001);
+  CanFrame long_status = encode_status({});
+  long_status.dlc = 12;
+  driver.on_frame(long_status, 0.002);
+  CanFrame other = encode_status({});
+  other.id = 0x3FF;
+  driver.on_frame(other, 0.003);
+  EXPECT_EQ(driver.counters().frames_received, 4u);
+  EXPECT_EQ(driver.counters().frames_malformed, 3u);
+  EXPECT_EQ(driver.counters().frames_ignored, 1u);
+  EXPECT_EQ(driver.feedback().q_rad[0], 0.0);  // nothing taken from a short frame
+  EXPECT_FALSE(driver.feedback().have_status);
+  const auto events = driver.take_events();
+  ASSERT_EQ(events.size(), 2u);
+  EXPECT_NE(events[0].text.find("0x2A5 [3]"), std::string::npos) << events[0].text;
+  EXPECT_NE(events[0].text.find("short_frame"), std::string::npos) << events[0].text;
+  EXPECT_NE(events[1].text.find("bad_dlc"), std::string::npos) << events[1].text;
+}
+
+TEST(ArmDriver, RefusesNonFiniteCommands) {
+  ArmDriver driver(rig_driver_params());
+  ArmCommand c = command_to({0, 0, 0, 0, 0, 0});
+  EXPECT_TRUE(driver.on_command(c, 0.0));
+  c.q_rad[3] = std::nan("");
+  EXPECT_FALSE(driver.on_command(c, 0.01));
+  c.q_rad[3] = 0.0;
+  c.has_gripper = true;
+  c.gripper_m = INFINITY;
+  EXPECT_FALSE(driver.on_command(c, 0.02));
+  EXPECT_EQ(driver.counters().commands_accepted, 1u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Bus, ArmDriverOverBus, ::testing::Values("memory", "lcm"),

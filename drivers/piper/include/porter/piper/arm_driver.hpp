@@ -96,6 +96,7 @@ class ArmDriver {
   std::array<double, kNumJoints> high_t_{};
   std::array<double, kNumJoints> low_t_{};
   bool link_was_ok_ = false;
+  double link_up_t_ = -1.0;  ///< when the link last came up, -1 = never
 
   ArmCommand cmd_;
   double cmd_t_ = -1.0;
