@@ -95,12 +95,16 @@ CanStatus LcmCanBus::receive(CanFrame& frame, int timeout_ms) {
                             deadline - std::chrono::steady_clock::now())
                             .count();
       if (left <= 0) {
-        // One non-blocking pass so a poll (timeout 0) still sees what is already queued.
-        if (bus_.handle_timeout(0) < 0) {
-          error_ = describe_ + ": LCM handle failed";
-          return CanStatus::io_error;
+        // Non-blocking passes so a poll (timeout 0) still sees what is already waiting, past
+        // this node's own frames (skipped by on_frame) that may come first.
+        while (queue_.empty()) {
+          const int handled = bus_.handle_timeout(0);
+          if (handled < 0) {
+            error_ = describe_ + ": LCM handle failed";
+            return CanStatus::io_error;
+          }
+          if (handled == 0) return CanStatus::timeout;
         }
-        if (queue_.empty()) return CanStatus::timeout;
         break;
       }
       wait_ms = static_cast<int>(left);

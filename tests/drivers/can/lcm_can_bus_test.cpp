@@ -2,6 +2,9 @@
 // skips its own frames, malformed messages are counted and dropped, bad specs fail clearly.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <thread>
+
 #include "porter/can/can_transport.hpp"
 #include "porter/can/lcm_can_bus.hpp"
 #include "porter/lcm_bus.hpp"
@@ -59,6 +62,25 @@ TEST(LcmCanBus, MalformedMessagesAreCountedAndDropped) {
   ASSERT_EQ(node.receive(got, 2000), CanStatus::ok);
   EXPECT_EQ(got.id, 0x2A5u);
   EXPECT_EQ(node.malformed(), 2u);
+}
+
+TEST(LcmCanBus, PollSeesFramesWaitingBehindTheNodesOwnEchoes) {
+  // Own port: this test's echoes must not reach the others.
+  const std::string url = "udpm://239.255.76.67:7769?ttl=0";
+  auto driver = open_can_bus("lcm:CAN_ARM@" + url, "porter-arm");
+  auto firmware = open_can_bus("lcm:CAN_ARM@" + url, "porter-sim");
+  ASSERT_TRUE(driver->is_open() && firmware->is_open());
+  for (int i = 0; i < 5; ++i) ASSERT_EQ(driver->send(frame(0x155, {1, 2, 3, 4, 5, 6, 7, 8})), CanStatus::ok);
+  ASSERT_EQ(firmware->send(frame(0x2A1, {1})), CanStatus::ok);
+  CanFrame got;
+  ASSERT_EQ(firmware->receive(got, 2000), CanStatus::ok);  // all six are on the wire by now
+  for (int i = 0; i < 4; ++i) ASSERT_EQ(firmware->receive(got, 2000), CanStatus::ok);
+  // LCM moves datagrams from the socket to its queue on its own thread: give it time to.
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The driver's five echoes come first; one poll must still find the firmware's frame.
+  ASSERT_EQ(driver->receive(got, 0), CanStatus::ok);
+  EXPECT_EQ(got.id, 0x2A1u);
+  EXPECT_EQ(driver->receive(got, 0), CanStatus::timeout);
 }
 
 TEST(CanTransport, BadSpecsGiveClosedBusesThatSayWhy) {
