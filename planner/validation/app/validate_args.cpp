@@ -73,6 +73,8 @@ std::optional<ValidateArgs> parse_validate_args(int argc, const char* const* arg
         *error = "--limit-tolerance: expected a number >= 0, got '" + v + "'";
         return std::nullopt;
       }
+    } else if (arg == "--clearance-horizon-m") {
+      if (!positive(arg, value(), &a.settings.clearance_horizon_m)) return std::nullopt;
     } else if (arg == "--pose-tolerance-m") {
       if (!positive(arg, value(), &a.settings.pose_tolerance_m)) return std::nullopt;
     } else if (arg == "--pose-tolerance-rad") {

@@ -14,6 +14,7 @@ inline constexpr const char* kValidateUsage =
     "usage: porter-validate --scene FILE [--seed N] [--set NAME=VALUE]... [--payload FILE]\n"
     "                       [--robot FILE] [--json FILE|-] [--trace FILE] [--max-step-m M]\n"
     "                       [--limit-tolerance R] [--pose-tolerance-m M] [--pose-tolerance-rad R]\n"
+    "                       [--clearance-horizon-m M]\n"
     "                       [--no-ground] [--quiet] RESULT.json\n"
     "exit codes: 0 valid, 1 invalid, 2 bad arguments, 3 unreadable or invalid input,\n"
     "            4 the result holds no trajectory\n";

@@ -58,7 +58,8 @@ std::string report_to_json(const PlanFile& plan, const ValidationReport* r, int 
   json cl = json::array();
   double least = std::numeric_limits<double>::infinity();
   for (const auto& o : r->clearances) {
-    cl.push_back({{"obstacle", o.obstacle}, {"min_m", number_or_null(o.min_m)}, {"t_s", o.t_s}, {"body", o.body}});
+    cl.push_back({{"obstacle", o.obstacle}, {"min_m", number_or_null(o.min_m)}, {"t_s", o.t_s}, {"body", o.body},
+               {"exact", o.exact}});
     if (o.obstacle != "ground") least = std::min(least, o.min_m);
   }
   doc["clearance"] = cl;

@@ -68,8 +68,8 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
   auto& obstacles = world.obstacles();
   const size_t n_obs = obstacles.size();
   const size_t ground = n_obs;  // index of the ground in the clearance list
-  for (const auto& o : obstacles) report.clearances.push_back({o.name, kInf, 0.0, ""});
-  if (settings.check_ground) report.clearances.push_back({"ground", kInf, 0.0, ""});
+  for (const auto& o : obstacles) report.clearances.push_back({o.name, kInf, 0.0, "", true});
+  if (settings.check_ground) report.clearances.push_back({"ground", kInf, 0.0, "", true});
 
   // Shape pairs checked for self-collision.
   std::vector<std::pair<size_t, size_t>> self_pairs;
@@ -102,8 +102,13 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
         ObstacleClearance& cl = report.clearances[j];
         const double gap = aabb_gap(s.aabb_W, obstacles[j].aabb_W);
         if (gap > 0.0 && gap >= cl.min_m) continue;
+        if (gap >= settings.clearance_horizon_m) {
+          // A lower bound only where nothing exact is known yet.
+          if (!cl.exact || !std::isfinite(cl.min_m)) cl = {cl.obstacle, gap, t, name_of(s.body), false};
+          continue;
+        }
         const double d = FclWorld::signed_distance(s, obstacles[j]);
-        if (d < cl.min_m) cl = {cl.obstacle, d, t, name_of(s.body)};
+        if (d < cl.min_m) cl = {cl.obstacle, d, t, name_of(s.body), true};
         if (d < 0.0) {
           collided = true;
           if (!report.collision.found || (report.collision.t_s == t && -d > report.collision.depth_m))
@@ -113,7 +118,7 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
       if (settings.check_ground && s.body != 0) {
         const double z = world.lowest_z_W(s, poses);
         ObstacleClearance& cl = report.clearances[ground];
-        if (z < cl.min_m) cl = {cl.obstacle, z, t, name_of(s.body)};
+        if (z < cl.min_m) cl = {cl.obstacle, z, t, name_of(s.body), true};
         if (z < 0.0) {
           collided = true;
           if (!report.collision.found || (report.collision.t_s == t && -z > report.collision.depth_m))

@@ -46,6 +46,10 @@ struct ValidationSettings {
   /// Goal and start: base position error, m; heading and joint errors, rad.
   double pose_tolerance_m = 0.05;
   double pose_tolerance_rad = 0.05;
+  /// Exact distances are computed only where a shape's bounding box comes within this of an
+  /// obstacle's, m; an obstacle never that close gets the least box gap as its clearance (a
+  /// lower bound, flagged not exact). Collisions are found whatever the horizon.
+  double clearance_horizon_m = 0.5;
   /// Check the arm, gripper and payload against the ground plane z = 0.
   bool check_ground = true;
 };
@@ -73,6 +77,7 @@ struct ObstacleClearance {
   double min_m = 0.0;        ///< signed, m
   double t_s = 0.0;          ///< where it is reached
   std::string body;          ///< which body reaches it
+  bool exact = true;         ///< false: never within the horizon, min_m is the least box gap
 };
 
 struct LimitCheck {
