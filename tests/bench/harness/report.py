@@ -23,11 +23,8 @@ def _groups(runs):
 
 
 def _methods(runs):
-    seen = []
-    for r in runs:
-        if r["method"] not in seen:
-            seen.append(r["method"])
-    return seen
+    present = {r["method"] for r in runs}
+    return [m for m in tables.METHOD_FLAGS if m in present]
 
 
 def _causes(runs):
@@ -131,12 +128,20 @@ def disagreements(records):
     if not rows:
         return out + ["None: on every run with a trajectory, porter-plan's kernel trajectory check and "
                       "porter-validate agreed on whether it is collision-free (self-collision included).", ""]
-    out += ["porter-plan's final kernel trajectory check (`final_check.collision_free`) against porter-validate's "
-            "environment and self-collision checks:", "",
-            "| run | planner exit | disagreement | validator |", "|---|---|---|---|"]
+    judged = sum(1 for r in records if r["validation"] is not None and r["plan"]["collision_free"] is not None)
+    counts = Counter(r["disagreement"] for r in rows)
+    out += ["porter-plan's final kernel trajectory check (`final_check.collision_free`, on its voxel map) "
+            "against porter-validate's environment and self-collision checks (exact geometry), on the %d runs "
+            "that both judged: %s." % (judged, "; ".join("%s: %d" % kv for kv in counts.most_common())), "",
+            "| run | planner exit | disagreement | validator: closest obstacle (mm) or collision |",
+            "|---|---|---|---|"]
     for r in rows:
         v = r["validation"]
-        what = "; ".join(f for f in v["failures"] if "collision" in f) or "collision-free"
+        what = "; ".join(f for f in v["failures"] if "collision" in f)
+        if not what:
+            closest = min((c for c in v["clearance"] if c["obstacle"] != "ground" and c["min_m"] is not None),
+                          key=lambda c: c["min_m"], default=None)
+            what = "%.1f (%s, %s)" % (closest["min_m"] * 1000.0, closest["obstacle"], closest["body"]) if closest else "-"
         out.append("| %s | %d | %s | %s |" % (r["id"], r["plan"]["exit"], r["disagreement"], what))
     return out + [""]
 
