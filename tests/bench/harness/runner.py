@@ -51,7 +51,7 @@ def plan(exes, root, run, run_dir):
     path = os.path.join(run_dir, run_id(run) + ".plan.json")
     proc = subprocess.run(plan_command(exes["plan"], root, run, path), capture_output=True, text=True)
     doc = _load(path)
-    rec = {"exit": proc.returncode, "file": path, "stderr": proc.stderr.strip()[-400:],
+    rec = {"exit": proc.returncode, "file": os.path.basename(path), "stderr": proc.stderr.strip()[-400:],
            "has_trajectory": bool(doc and doc.get("trajectory")), "status": None,
            "frontend_status": None, "frontend_ms": None, "midend_ms": None, "midend_optimize_ms": None,
            "backend_ran": False, "backend_ms": None, "backend_optimize_ms": None, "direct": False,
@@ -96,10 +96,11 @@ def within_budget(run, p):
 def validate(exes, root, run, p, run_dir):
     """Runs porter-validate on a plan with a trajectory; returns the validation part."""
     path = os.path.join(run_dir, run_id(run) + ".validate.json")
-    proc = subprocess.run(validate_command(exes["validate"], root, run, p["file"], path),
+    proc = subprocess.run(validate_command(exes["validate"], root, run, os.path.join(run_dir, p["file"]), path),
                           capture_output=True, text=True)
     doc = _load(path)
-    rec = {"exit": proc.returncode, "file": path, "stderr": proc.stderr.strip()[-400:], "valid": False,
+    rec = {"exit": proc.returncode, "file": os.path.basename(path), "stderr": proc.stderr.strip()[-400:],
+           "valid": False,
            "failures": [], "collision": None, "self_collision": None, "min_clearance_m": None,
            "clearance": [], "limits": {}, "goal_ok": None, "start_ok": None, "samples": None,
            "time_ms": None}
