@@ -297,8 +297,8 @@ void BaseDriver::tick(double t_s, std::vector<CanFrame>& out) {
     const double age = t_s - command_t_s_;
     event(t_s, fresh ? EventLevel::info : EventLevel::warn,
           fresh ? std::string("BASE_CMD fresh")
-                : "BASE_CMD stale (last one " + ms(age) + " ago, limit " +
-                      ms(params_.command_stale_s) + "): sending zero velocity");
+                : "BASE_CMD stale (last one " + ms(age) + " ago; a command drives the base "
+                      "at most " + ms(params_.command_stale_s) + "): sending zero velocity");
   }
   feedback_.cmd_stale = !fresh;
   VelocityCommand send;
