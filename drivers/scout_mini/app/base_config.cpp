@@ -27,7 +27,7 @@ BaseNodeConfig load_base_config(const std::string& path) {
   const yaml::Reader root = yaml::Reader::load_file(path);
   root.expect_keys({"can_bus", "lcm_url", "robot", "command_rate_hz", "command_stale_s",
                     "v_max_mps", "omega_max_radps", "feedback_timeout_s", "mode_retry_period_s",
-                    "odometry_jump_m", "stats_period_s"});
+                    "odometry_jump_m", "stats_period_s", "realtime_priority"});
   BaseNodeConfig c;
   c.source = path;
   c.can_bus = root.get("can_bus").as_string();
@@ -61,6 +61,10 @@ BaseNodeConfig load_base_config(const std::string& path) {
   d.mode_retry_period_s = in_range(root.get("mode_retry_period_s"), 0.02, 5.0, "s");
   d.odometry_jump_m = in_range(root.get("odometry_jump_m"), 0.01, 10.0, "m");
   c.stats_period_s = in_range(root.get("stats_period_s"), 1.0, 3600.0, "s");
+  c.realtime_priority = static_cast<int>(in_range(root.get("realtime_priority"), 0, 99, ""));
+  if (c.realtime_priority != root.get("realtime_priority").as_int()) {
+    root.get("realtime_priority").fail("expected an integer");
+  }
   return c;
 }
 

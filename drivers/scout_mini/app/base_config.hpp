@@ -22,6 +22,7 @@ struct BaseNodeConfig {
   std::string robot_config;     ///< resolved path of the robot.yaml used
   DriverParams driver;
   double stats_period_s = 30.0; ///< period of the timing line in the log
+  int realtime_priority = 0;    ///< SCHED_FIFO priority of the command loop, 0 = normal
 };
 
 BaseNodeConfig load_base_config(const std::string& path);

@@ -1,6 +1,11 @@
 #include "base_node.hpp"
 
+#include <chrono>
 #include <cstdio>
+#include <cstring>
+
+#include <pthread.h>
+#include <sched.h>
 #include <string>
 #include <vector>
 
@@ -51,6 +56,17 @@ BaseNode::BaseNode(const BaseNodeConfig& config, std::unique_ptr<can::CanBus> bu
 BaseNode::~BaseNode() {
   rx_stop_ = true;
   if (rx_thread_.joinable()) rx_thread_.join();
+  if (lcm_thread_.joinable()) lcm_thread_.join();
+}
+
+void BaseNode::lcm_loop() {
+  RateLimitedLog lcm_log(5.0);
+  while (!rx_stop_.load()) {
+    if (lcm_.handle_timeout(50) < 0) {
+      lcm_log.warn("LCM handle failed");
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    }
+  }
 }
 
 void BaseNode::receive_loop() {
@@ -102,6 +118,19 @@ int BaseNode::run(const std::function<bool()>& stop) {
   }
   rx_stop_ = false;
   rx_thread_ = std::thread([this] { receive_loop(); });
+  lcm_thread_ = std::thread([this] { lcm_loop(); });
+  if (config_.realtime_priority > 0) {
+    sched_param param{};
+    param.sched_priority = config_.realtime_priority;
+    const int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    if (err == 0) {
+      log_info("command loop at SCHED_FIFO priority " + std::to_string(config_.realtime_priority));
+    } else {
+      log_warn("cannot run the command loop at SCHED_FIFO priority " +
+               std::to_string(config_.realtime_priority) + ": " + std::strerror(err) +
+               " (needs CAP_SYS_NICE or an rtprio limit); running at normal priority");
+    }
+  }
 
   runtime::Heartbeat heartbeat(lcm_, runtime::process_name());
   runtime::PeriodicLoop loop(config_.driver.command_period_s);
@@ -118,7 +147,6 @@ int BaseNode::run(const std::function<bool()>& stop) {
 
   while (!stop()) {
     loop.wait();
-    if (lcm_.handle_pending() < 0) send_log.warn("LCM handle failed");
     if (bus_closed_.load()) {
       log_error("CAN bus closed: " + bus_->last_error() + "; exiting so a supervisor restarts "
                 "porter-base");
@@ -193,6 +221,7 @@ int BaseNode::run(const std::function<bool()>& stop) {
   if (!frames.empty()) log_info("stopping: sent a zero 0x111");
   rx_stop_ = true;
   if (rx_thread_.joinable()) rx_thread_.join();
+  if (lcm_thread_.joinable()) lcm_thread_.join();
   lcm_.unsubscribe(cmd_sub);
   lcm_.unsubscribe(estop_sub);
   return exit_code;

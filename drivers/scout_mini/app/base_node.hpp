@@ -4,16 +4,19 @@
 // - A receive thread reads the bus and hands every frame to the driver with its monotonic
 //   receive time; controller errors and transport errors are logged (rate-limited), a closed bus
 //   ends the run.
-// - The main loop runs at the command rate on absolute deadlines (runtime::PeriodicLoop): it
-//   dispatches BASE_CMD and ESTOP, ticks the driver and sends its frames (0x421 when due, 0x111),
-//   logs the driver's events, publishes BASE_STATE and the HEARTBEAT, and logs a timing line
-//   every stats_period_s.
+// - An LCM thread dispatches BASE_CMD and ESTOP as they arrive, so a command's age is measured
+//   from its arrival, not from the next tick.
+// - The main loop runs at the command rate on absolute deadlines (runtime::PeriodicLoop), at
+//   SCHED_FIFO priority when realtime_priority > 0: it ticks the driver and sends its frames
+//   (0x421 when due, 0x111), logs the driver's events, publishes BASE_STATE and the HEARTBEAT,
+//   and logs a timing line every stats_period_s.
 // - Shutdown (stop() true): a zero 0x111 is sent, the receive thread joined.
 // Peers restarting (porter-sim, the tracker) need nothing: commands go stale, feedback comes
 // back, and the driver re-enters command mode when the base reports standby.
 //
-// Thread-safety: run() from one thread; the driver is shared with the receive thread under a
-// mutex. `lcm` is handled on run()'s thread only.
+// Thread-safety: run() from one thread; the driver is shared with the receive and LCM threads
+// under a mutex. `lcm` is handled on the LCM thread only while run() runs (publish is
+// thread-safe).
 
 #include <atomic>
 #include <cstdint>
@@ -48,6 +51,7 @@ class BaseNode {
 
  private:
   void receive_loop();
+  void lcm_loop();
 
   BaseNodeConfig config_;
   std::unique_ptr<can::CanBus> bus_;
@@ -55,6 +59,7 @@ class BaseNode {
   std::mutex mutex_;
   BaseDriver driver_;
   std::thread rx_thread_;
+  std::thread lcm_thread_;
   std::atomic<bool> rx_stop_{false};
   std::atomic<bool> bus_closed_{false};
   runtime::LatenessStats lateness_;

@@ -28,7 +28,8 @@ std::map<std::string, std::string> shipped_keys() {
           {"feedback_timeout_s", "0.25"},
           {"mode_retry_period_s", "0.1"},
           {"odometry_jump_m", "0.5"},
-          {"stats_period_s", "30"}};
+          {"stats_period_s", "30"},
+          {"realtime_priority", "0"}};
 }
 
 std::string write(const std::map<std::string, std::string>& keys, const std::string& name) {

@@ -91,8 +91,11 @@ class SimulatedBase {
 class DriverProcess {
  public:
   DriverProcess(const BaseNodeConfig& config, const std::string& lcm_url)
-      : lcm_(lcm_url),
-        node_(config, can::open_can_bus(config.can_bus, "porter-base"), lcm_) {
+      : DriverProcess(config, lcm_url, can::open_can_bus(config.can_bus, "porter-base")) {}
+  /// With a bus the caller opened (and may cut, e.g. MemoryBus::disconnect()).
+  DriverProcess(const BaseNodeConfig& config, const std::string& lcm_url,
+                std::unique_ptr<can::CanBus> bus)
+      : lcm_(lcm_url), node_(config, std::move(bus), lcm_) {
     thread_ = std::thread([this] { exit_code_ = node_.run([this] { return stop_.load(); }); });
   }
   ~DriverProcess() { stop(); }
