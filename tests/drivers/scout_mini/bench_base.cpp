@@ -31,6 +31,7 @@
 #include <pthread.h>
 #include <sched.h>
 
+#include "../can/private_lcm_url.hpp"
 #include "node_harness.hpp"
 #include "porter/can/memory_bus.hpp"
 #include "porter/runtime/log.hpp"
@@ -39,9 +40,14 @@ namespace {
 
 using namespace porter;
 using namespace porter::scout_mini;
+namespace harness = porter::scout_mini::test;
 
-const std::string kLcmUrl = "udpm://239.255.76.67:7871?ttl=0";
-const std::string kCanLcmUrl = "udpm://239.255.76.67:7872?ttl=0";
+const std::string kLcmUrl = porter::test::private_lcm_url();
+const std::string kCanLcmUrl = [] {
+  std::string url = porter::test::private_lcm_url();
+  while (url == kLcmUrl) url = porter::test::private_lcm_url();
+  return url;
+}();
 
 struct Stamped {
   double t_s;
@@ -149,13 +155,13 @@ int run_stop(int argc, char** argv, bool crash) {
   const double w = std::stod(arg(argc, argv, "--w", "0.2"));
   const std::string spec =
       transport == "lcm" ? "lcm:CAN_BASE@" + kCanLcmUrl : std::string("memory:bench_stop");
-  test::SimulatedBase base(spec);
+  harness::SimulatedBase base(spec);
   if (!base.open()) {
     std::fprintf(stderr, "bus: %s\n", base.error().c_str());
     return 1;
   }
   Sniffer sniffer(spec);
-  test::Client client(kLcmUrl);
+  harness::Client client(kLcmUrl);
   std::printf("%s: %d trials, CAN %s, BASE_CMD v %.2f m/s omega %.2f rad/s at 100 Hz for 0.8 s, "
               "then none\n",
               crash ? "crash (driver's bus cut at the last BASE_CMD)" : "stale stop", trials,
@@ -164,9 +170,9 @@ int run_stop(int argc, char** argv, bool crash) {
   int missed = 0;
   auto driver_bus = crash ? can::MemoryBus::open("bench_stop") : nullptr;
   can::MemoryBus* cut = driver_bus.get();
-  auto driver = crash ? std::make_unique<test::DriverProcess>(test::node_config(spec), kLcmUrl,
+  auto driver = crash ? std::make_unique<harness::DriverProcess>(harness::node_config(spec), kLcmUrl,
                                                               std::move(driver_bus))
-                      : std::make_unique<test::DriverProcess>(test::node_config(spec), kLcmUrl);
+                      : std::make_unique<harness::DriverProcess>(harness::node_config(spec), kLcmUrl);
   if (!client.wait_for([](const porter::base_state_t& s) { return s.link_ok && s.control_mode == 1; },
                        20.0)) {
     std::fprintf(stderr, "the base never reached CAN command mode\n");
@@ -221,12 +227,12 @@ int run_period(int argc, char** argv) {
   const std::string spec =
       transport == "lcm" ? "lcm:CAN_BASE@" + kCanLcmUrl : std::string("memory:bench_period");
   const int rt = std::stoi(arg(argc, argv, "--rt-priority", "0"));
-  test::SimulatedBase base(spec);
+  harness::SimulatedBase base(spec);
   Sniffer sniffer(spec, rt);
-  test::Client client(kLcmUrl);
-  BaseNodeConfig config = test::node_config(spec);
+  harness::Client client(kLcmUrl);
+  BaseNodeConfig config = harness::node_config(spec);
   config.realtime_priority = rt;
-  test::DriverProcess driver(config, kLcmUrl);
+  harness::DriverProcess driver(config, kLcmUrl);
   client.wait_for([](const porter::base_state_t& s) { return s.link_ok && s.control_mode == 1; }, 20.0);
   const double t0 = runtime::mono_s();
   client.stream(0.3, 0.1, seconds);

@@ -8,6 +8,7 @@
 #include <mutex>
 #include <vector>
 
+#include "../can/private_lcm_url.hpp"
 #include "node_harness.hpp"
 
 namespace porter::scout_mini {
@@ -23,13 +24,10 @@ struct Transport {
 };
 void PrintTo(const Transport& t, std::ostream* os) { *os << t.name; }
 
-// Each test and transport gets its own udpm port so parallel runs never cross.
-std::string url(int port) { return "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0"; }
-
+// Each test gets its own free udpm port so parallel runs never cross.
 class BaseNodeTest : public ::testing::TestWithParam<Transport> {
  protected:
-  // Port base per test; +1 for the LCM-carried bus variant.
-  std::string lcm_url(int base_port) const { return url(base_port + (GetParam().lcm_can ? 1 : 0)); }
+  std::string lcm_url() const { return porter::test::private_lcm_url(); }
   std::string can_spec(const std::string& lcm, const std::string& name) const {
     return GetParam().lcm_can ? "lcm:CAN_BASE@" + lcm : "memory:" + name;
   }
@@ -40,7 +38,7 @@ bool in_can_mode(const porter::base_state_t& s) {
 }
 
 TEST_P(BaseNodeTest, EnablesStreamsAndStopsWhenCommandsGoStale) {
-  const std::string lcm = lcm_url(7841);
+  const std::string lcm = lcm_url();
   const std::string can = can_spec(lcm, "node_stream");
   SimulatedBase base(can);
   ASSERT_TRUE(base.open()) << base.error();
@@ -83,7 +81,7 @@ TEST_P(BaseNodeTest, EnablesStreamsAndStopsWhenCommandsGoStale) {
 }
 
 TEST_P(BaseNodeTest, EstopHoldsTheBaseUntilReleasedAndCommandedAgain) {
-  const std::string lcm = lcm_url(7843);
+  const std::string lcm = lcm_url();
   const std::string can = can_spec(lcm, "node_estop");
   SimulatedBase base(can);
   ASSERT_TRUE(base.open()) << base.error();
@@ -116,7 +114,7 @@ TEST_P(BaseNodeTest, EstopHoldsTheBaseUntilReleasedAndCommandedAgain) {
 }
 
 TEST_P(BaseNodeTest, ReEnablesAfterAPowerCycle) {
-  const std::string lcm = lcm_url(7845);
+  const std::string lcm = lcm_url();
   const std::string can = can_spec(lcm, "node_power");
   SimulatedBase base(can);
   ASSERT_TRUE(base.open()) << base.error();
@@ -138,7 +136,7 @@ TEST_P(BaseNodeTest, ReEnablesAfterAPowerCycle) {
 }
 
 TEST_P(BaseNodeTest, ReportsFaultsAndStreamsThatStop) {
-  const std::string lcm = lcm_url(7847);
+  const std::string lcm = lcm_url();
   const std::string can = can_spec(lcm, "node_faults");
   SimulatedBase base(can);
   ASSERT_TRUE(base.open()) << base.error();
@@ -176,7 +174,7 @@ TEST_P(BaseNodeTest, ReportsFaultsAndStreamsThatStop) {
 }
 
 TEST_P(BaseNodeTest, CleanShutdownLeavesTheBaseCommandedToZero) {
-  const std::string lcm = lcm_url(7849);
+  const std::string lcm = lcm_url();
   const std::string can = can_spec(lcm, "node_shutdown");
   SimulatedBase base(can);
   ASSERT_TRUE(base.open()) << base.error();

@@ -26,6 +26,7 @@
 #include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
+#include "../can/private_lcm_url.hpp"
 
 extern char** environ;
 
@@ -33,7 +34,8 @@ namespace porter {
 namespace {
 
 const std::string kSource = PORTER_SOURCE_DIR;
-const std::string kUrl = "udpm://239.255.76.67:7861?ttl=0";
+// A free port: udpm traffic is host-wide, other runs of this test must not cross.
+const std::string kUrl = test::private_lcm_url();
 
 // A child process with stderr in a log file; stopped by PID with SIGTERM.
 class Child {
