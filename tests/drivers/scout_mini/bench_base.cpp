@@ -3,7 +3,7 @@
 // third node on the CAN bus (the sniffer) timestamps every frame as it arrives
 // (CLOCK_MONOTONIC).
 //
-//   porter-bench-base stop   [--trials 100] [--can memory|lcm] [--v 0.5] [--w 0.2]
+//   porter-bench-base stop   [--trials 100] [--can memory|lcm] [--v 0.5] [--w 0.2] [--rt-priority 0]
 //   porter-bench-base crash  [--trials 20]  [--v 0.5] [--w 0.2]      (memory bus only)
 //   porter-bench-base period [--seconds 60] [--can memory|lcm] [--rt-priority 0]
 //
@@ -162,17 +162,19 @@ int run_stop(int argc, char** argv, bool crash) {
   }
   Sniffer sniffer(spec);
   harness::Client client(kLcmUrl);
-  std::printf("%s: %d trials, CAN %s, BASE_CMD v %.2f m/s omega %.2f rad/s at 100 Hz for 0.8 s, "
-              "then none\n",
+  std::printf("%s: %d trials, CAN %s, driver loop SCHED_FIFO %s, BASE_CMD v %.2f m/s omega %.2f "
+              "rad/s at 100 Hz for 0.8 s, then none\n",
               crash ? "crash (driver's bus cut at the last BASE_CMD)" : "stale stop", trials,
-              spec.c_str(), v, w);
+              spec.c_str(), arg(argc, argv, "--rt-priority", "0").c_str(), v, w);
   std::vector<double> cmd_ms, report_ms, state_ms;
   int missed = 0;
   auto driver_bus = crash ? can::MemoryBus::open("bench_stop") : nullptr;
   can::MemoryBus* cut = driver_bus.get();
-  auto driver = crash ? std::make_unique<harness::DriverProcess>(harness::node_config(spec), kLcmUrl,
-                                                              std::move(driver_bus))
-                      : std::make_unique<harness::DriverProcess>(harness::node_config(spec), kLcmUrl);
+  BaseNodeConfig config = harness::node_config(spec);
+  config.realtime_priority = std::stoi(arg(argc, argv, "--rt-priority", "0"));
+  auto driver = crash ? std::make_unique<harness::DriverProcess>(config, kLcmUrl,
+                                                                 std::move(driver_bus))
+                      : std::make_unique<harness::DriverProcess>(config, kLcmUrl);
   if (!client.wait_for([](const porter::base_state_t& s) { return s.link_ok && s.control_mode == 1; },
                        20.0)) {
     std::fprintf(stderr, "the base never reached CAN command mode\n");
