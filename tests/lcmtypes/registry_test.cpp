@@ -22,7 +22,7 @@ struct SpecRow {
   double max_rate_hz;
 };
 
-// DESIGN §2, "Processes and channels", plus the e-stop and heartbeat channels.
+// DESIGN §2, "Processes and channels", plus the e-stop, heartbeat and simulator channels.
 const std::vector<SpecRow>& design_channels() {
   static const std::vector<SpecRow> spec = {
       {"LIDAR_POINTS", "point_cloud_t", "porter-lidar", 10.0, 10.0},
@@ -43,6 +43,8 @@ const std::vector<SpecRow>& design_channels() {
       {"CAN_ARM", "can_frame_t", "porter-arm, porter-sim", 0.0, 0.0},
       {"ESTOP", "estop_t", "operator", 0.0, 0.0},
       {"HEARTBEAT", "process_heartbeat_t", "all", 1.0, 1.0},
+      {"SIM_TRUTH", "robot_state_t", "porter-sim", 10.0, 1000.0},
+      {"SIM_COMMAND", "sim_command_t", "operator", 0.0, 0.0},
   };
   return spec;
 }
@@ -125,6 +127,8 @@ TEST(ChannelRegistry, TypedDescriptorsMatchTheirRows) {
   expect_typed_row(kCanArm);
   expect_typed_row(kEstop);
   expect_typed_row(kHeartbeat);
+  expect_typed_row(kSimTruth);
+  expect_typed_row(kSimCommand);
 }
 
 TEST(ChannelRegistry, EveryMessageTypeTravelsOnSomeChannel) {

@@ -2,6 +2,8 @@
 
 #include "porter/can/lcm_can_bus.hpp"
 #include "porter/can/memory_bus.hpp"
+#include "porter/can/slcan_bus.hpp"
+#include "porter/can/socketcan_bus.hpp"
 #include "porter/channels.hpp"
 
 namespace porter::can {
@@ -35,7 +37,23 @@ std::unique_ptr<CanBus> open_lcm(const std::string& spec, const std::string& res
   return bus;
 }
 
+std::unique_ptr<CanBus> open_slcan(const std::string& spec, const std::string& rest) {
+  SlcanOptions options;
+  std::string error;
+  if (!parse_slcan_target(rest, options, error)) {
+    return make_failed_bus(spec, "CAN bus '" + spec + "': " + error);
+  }
+  return SlcanBus::open(options, spec);
+}
+
 }  // namespace
+
+std::string with_lcm_url(const std::string& spec, const std::string& url) {
+  if (url.empty() || spec.rfind("lcm:", 0) != 0 || spec.find('@') != std::string::npos) {
+    return spec;
+  }
+  return spec + "@" + url;
+}
 
 std::unique_ptr<CanBus> make_failed_bus(const std::string& spec, const std::string& reason) {
   return std::make_unique<FailedBus>(spec, reason);
@@ -47,12 +65,15 @@ std::unique_ptr<CanBus> open_can_bus(const std::string& spec, const std::string&
   const std::string rest = colon == std::string::npos ? std::string() : spec.substr(colon + 1);
   if (colon == std::string::npos || rest.empty()) {
     return make_failed_bus(spec, "CAN bus '" + spec +
-                                     "': expected TRANSPORT:TARGET (memory:NAME, lcm:CHANNEL[@URL])");
+                                     "': expected TRANSPORT:TARGET (socketcan:IFACE, slcan:DEVICE@BITRATE, "
+                                     "lcm:CHANNEL[@URL], memory:NAME)");
   }
   if (kind == "memory") return MemoryBus::open(rest);
   if (kind == "lcm") return open_lcm(spec, rest, node_name);
+  if (kind == "socketcan") return SocketCanBus::open(rest);
+  if (kind == "slcan") return open_slcan(spec, rest);
   return make_failed_bus(spec, "CAN bus '" + spec + "': unknown transport '" + kind +
-                                   "' (expected memory or lcm)");
+                                   "' (expected socketcan, slcan, lcm or memory)");
 }
 
 }  // namespace porter::can

@@ -38,6 +38,7 @@
 #include "porter/pose_t.hpp"
 #include "porter/process_heartbeat_t.hpp"
 #include "porter/robot_state_t.hpp"
+#include "porter/sim_command_t.hpp"
 #include "porter/tracker_status_t.hpp"
 
 namespace porter::channels {
@@ -129,12 +130,22 @@ inline constexpr Channel<porter::process_heartbeat_t> kHeartbeat{
     "HEARTBEAT", "process_heartbeat_t", 1.0, "all",
     "liveness and health of every Porter process"};
 
+// ---- simulation ---------------------------------------------------------------------------------
+inline constexpr Channel<porter::robot_state_t> kSimTruth{
+    "SIM_TRUTH", "robot_state_t", 100.0, "porter-sim",
+    "ground truth of the simulated robot: exact base pose and velocities, joint angles and "
+    "velocities (pose_source = POSE_SIM_TRUTH); for tests, validation and scoring"};
+inline constexpr Channel<porter::sim_command_t> kSimCommand{
+    "SIM_COMMAND", "sim_command_t", 0.0, "operator",
+    "faults and world changes asked of porter-sim: drop a bus, stop a stream, raise an error, "
+    "power-cycle a device, add or remove an obstacle"};
+
 /// Every channel, in the order above.
-inline constexpr std::array<ChannelInfo, 18> kAll{{
+inline constexpr std::array<ChannelInfo, 20> kAll{{
     kLidarPoints.info, kLidarImu.info, kLioPose.info, kMapOctomap.info, kPlanGoal.info,
     kPayload.info, kTrajectory.info, kPlannerStatus.info, kRobotState.info, kBaseCmd.info,
     kArmCmd.info, kTrackerStatus.info, kBaseState.info, kArmState.info, kCanBase.info,
-    kCanArm.info, kEstop.info, kHeartbeat.info,
+    kCanArm.info, kEstop.info, kHeartbeat.info, kSimTruth.info, kSimCommand.info,
 }};
 
 /// The registry row named `name`, or nullptr when no channel has that name.

@@ -8,12 +8,14 @@
 #include "porter/can/can_transport.hpp"
 #include "porter/can/lcm_can_bus.hpp"
 #include "porter/lcm_bus.hpp"
+#include "private_lcm_url.hpp"
 
 namespace porter::can {
 namespace {
 
-// A port no other test uses, so parallel CTest runs do not cross.
-const std::string kUrl = "udpm://239.255.76.67:7711?ttl=0";
+// A port no other process uses, so parallel runs (this suite's and other build trees') do not
+// cross.
+const std::string kUrl = test::private_lcm_url();
 
 CanFrame frame(std::uint32_t id, std::initializer_list<std::uint8_t> bytes) {
   CanFrame f;

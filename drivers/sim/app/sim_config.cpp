@@ -1,0 +1,123 @@
+#include "sim_config.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <set>
+
+#include "porter/core/yaml_reader.hpp"
+
+namespace porter::sim {
+namespace {
+
+double in_range(const yaml::Reader& r, double lo, double hi, const char* unit) {
+  const double v = r.as_double();
+  if (!(v >= lo && v <= hi)) {
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "%g %s is out of range [%g, %g]", v, unit, lo, hi);
+    r.fail(buf);
+  }
+  return v;
+}
+
+void load_scout_mini(const yaml::Reader& r, scout_mini::FirmwareParams& p) {
+  r.expect_keys({"linear_accel_max_mps2", "angular_accel_max_radps2", "time_constant_s",
+                 "command_timeout_s", "battery_voltage_v", "gear_ratio", "pulses_per_motor_rev"});
+  p.linear_accel_max_mps2 = in_range(r.get("linear_accel_max_mps2"), 0.01, 50.0, "m/s^2");
+  p.angular_accel_max_radps2 = in_range(r.get("angular_accel_max_radps2"), 0.01, 100.0, "rad/s^2");
+  p.time_constant_s = in_range(r.get("time_constant_s"), 0.0, 2.0, "s");
+  p.command_timeout_s = in_range(r.get("command_timeout_s"), 0.02, 10.0, "s");
+  p.battery_voltage_v = in_range(r.get("battery_voltage_v"), 0.0, 60.0, "V");
+  p.gear_ratio = in_range(r.get("gear_ratio"), 0.01, 1000.0, "");
+  p.pulses_per_motor_rev = in_range(r.get("pulses_per_motor_rev"), 1.0, 1e6, "");
+}
+
+}  // namespace
+
+const std::vector<std::string>& known_device_kinds() {
+  static const std::vector<std::string> kinds = {"scout_mini"};
+  return kinds;
+}
+
+SimConfig load_sim_config(const std::string& path) {
+  const yaml::Reader root = yaml::Reader::load_file(path);
+  root.expect_keys({"lcm_url", "scene", "scene_seed", "robot", "payload", "step_s", "history_s",
+                    "truth_rate_hz", "lio", "arm_joints_rad", "buses", "scout_mini",
+                    "status_period_s"});
+  SimConfig c;
+  c.source = path;
+  c.lcm_url = root.get("lcm_url").as_string();
+  c.scene_path = yaml::resolve_path(path, root.get("scene").as_string());
+  const int seed = root.get("scene_seed").as_int();
+  if (seed < 0) root.get("scene_seed").fail("must be >= 0");
+  c.scene_seed = static_cast<std::uint64_t>(seed);
+  c.robot_path = yaml::resolve_path(path, root.get("robot").as_string());
+  const std::string payload = root.get("payload").as_string();
+  if (payload == "none") {
+    c.payload_path.clear();
+  } else if (payload == "scene") {
+    c.payload_path = "scene";
+  } else {
+    c.payload_path = yaml::resolve_path(path, payload);
+  }
+  c.step_s = in_range(root.get("step_s"), 1e-4, 0.02, "s");
+  c.history_s = in_range(root.get("history_s"), 0.1, 60.0, "s");
+  c.truth_rate_hz = in_range(root.get("truth_rate_hz"), 1.0, 1000.0, "Hz");
+  if (c.truth_rate_hz * c.step_s > 1.0 + 1e-9) {
+    root.get("truth_rate_hz").fail("faster than the simulation step (1 / step_s)");
+  }
+  const yaml::Reader lio = root.get("lio");
+  lio.expect_keys({"rate_hz", "position_noise_m", "yaw_noise_rad", "seed"});
+  c.lio_rate_hz = in_range(lio.get("rate_hz"), 1.0, 1000.0, "Hz");
+  c.lio_noise.position_sigma_m = in_range(lio.get("position_noise_m"), 0.0, 10.0, "m");
+  c.lio_noise.yaw_sigma_rad = in_range(lio.get("yaw_noise_rad"), 0.0, 3.2, "rad");
+  const int lio_seed = lio.get("seed").as_int();
+  if (lio_seed < 0) lio.get("seed").fail("must be >= 0");
+  c.lio_noise.seed = static_cast<std::uint64_t>(lio_seed);
+
+  const yaml::Reader arm = root.get("arm_joints_rad");
+  if (arm.is_scalar()) {
+    if (arm.as_string() != "scene") arm.fail("expected 'scene' or a list of 6 angles (rad)");
+  } else {
+    const std::vector<double> q = arm.as_doubles(kNumArmJoints);
+    JointVector v;
+    for (int i = 0; i < kNumArmJoints; ++i) v[i] = q[static_cast<std::size_t>(i)];
+    c.arm_joints_rad = v;
+  }
+
+  const yaml::Reader buses = root.get("buses");
+  if (!buses.is_sequence()) buses.fail("expected a list of buses");
+  std::set<std::string> bus_names;
+  std::set<std::string> device_names;
+  for (std::size_t i = 0; i < buses.size(); ++i) {
+    const yaml::Reader b = buses.at(i);
+    b.expect_keys({"name", "can", "devices"});
+    BusConfig bus;
+    bus.name = b.get("name").as_string();
+    if (bus.name.empty() || !bus_names.insert(bus.name).second) {
+      b.get("name").fail("bus names must be unique and not empty");
+    }
+    bus.can = b.get("can").as_string();
+    if (bus.can.find(':') == std::string::npos) {
+      b.get("can").fail("expected TRANSPORT:TARGET (lcm:CAN_BASE, memory:NAME, ...)");
+    }
+    bus.devices = b.get("devices").as_strings();
+    for (std::size_t k = 0; k < bus.devices.size(); ++k) {
+      const std::string& kind = bus.devices[k];
+      const auto& known = known_device_kinds();
+      if (std::find(known.begin(), known.end(), kind) == known.end()) {
+        std::string list;
+        for (const std::string& n : known) list += (list.empty() ? "" : ", ") + n;
+        b.get("devices").at(k).fail("unknown device '" + kind + "' (known: " + list + ")");
+      }
+      if (!device_names.insert(kind).second) {
+        b.get("devices").at(k).fail("device '" + kind + "' is hosted twice");
+      }
+    }
+    c.buses.push_back(bus);
+  }
+  load_scout_mini(root.get("scout_mini"), c.scout_mini);
+  c.status_period_s = in_range(root.get("status_period_s"), 1.0, 3600.0, "s");
+  return c;
+}
+
+}  // namespace porter::sim

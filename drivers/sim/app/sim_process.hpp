@@ -1,0 +1,59 @@
+#pragma once
+// porter-sim's body: builds the simulation from its config and runs it in real time over LCM.
+//
+// Building: the scene (core's scene loader, with the config's seed), the robot (robot config)
+// with the payload attached, one CAN endpoint per bus (open_can_bus, node name "porter-sim";
+// lcm: buses without a URL use the config's lcm_url), the devices of each bus (sim_devices.hpp),
+// the ground-truth sources (the devices that move the robot; fixed values otherwise), and the
+// sensors: SIM_TRUTH at truth_rate_hz, LIO_POSE at lio.rate_hz with its noise. More sensors (the
+// simulated MID-360) are added with simulator().add_sensor() before run().
+//
+// Running: every step_s on absolute deadlines, LCM is dispatched (SIM_COMMAND is applied at once
+// and its outcome logged) and the simulation is stepped to the monotonic time since start, so
+// simulated time follows wall time (real-time factor 1) whatever an individual step costs; a
+// status line every status_period_s gives the simulated / wall time ratio, the share of one
+// core the steps used and the frame counts per bus.
+//
+// Failure: the constructor throws porter::LoadError for a bad scene, robot or payload file;
+// a bus that cannot be opened makes ok() false with error() naming it.
+// Thread-safety: one thread builds and runs it.
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "porter/can/can_bus.hpp"
+#include "porter/lcm_bus.hpp"
+#include "porter/sim/simulator.hpp"
+#include "sim_config.hpp"
+
+namespace porter::sim {
+
+class SimProcess {
+ public:
+  SimProcess(const SimConfig& config, LcmBus& lcm);
+
+  bool ok() const { return error_.empty(); }
+  const std::string& error() const { return error_; }
+  Simulator& simulator() { return *sim_; }
+
+  /// Runs until stop() returns true; returns 0.
+  int run(const std::function<bool()>& stop);
+
+  /// Simulated seconds per wall second over the whole run, and the fraction of wall time spent
+  /// stepping (valid after run()).
+  double real_time_factor() const { return rtf_; }
+  double busy_fraction() const { return busy_; }
+
+ private:
+  SimConfig config_;
+  LcmBus& lcm_;
+  std::vector<std::unique_ptr<can::CanBus>> endpoints_;
+  std::unique_ptr<Simulator> sim_;
+  std::string error_;
+  double rtf_ = 0.0;
+  double busy_ = 0.0;
+};
+
+}  // namespace porter::sim

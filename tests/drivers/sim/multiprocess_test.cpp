@@ -1,0 +1,247 @@
+// porter-base and porter-sim as separate processes over lcm:CAN_BASE on a private udpm port,
+// started from the shipped configs and stopped by PID: the base enters command mode, BASE_CMD
+// moves the simulated robot (SIM_TRUTH, LIO_POSE, BASE_STATE agree), SIM_COMMAND faults reach
+// the firmware (power cycle and re-enable, an obstacle added and removed is acknowledged in the
+// log), porter-base survives porter-sim restarting, both exit 0 on SIGTERM.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "porter/channels.hpp"
+#include "porter/lcm_bus.hpp"
+#include "porter/runtime/clock.hpp"
+#include "../can/private_lcm_url.hpp"
+
+extern char** environ;
+
+namespace porter {
+namespace {
+
+const std::string kSource = PORTER_SOURCE_DIR;
+// A free port: udpm traffic is host-wide, other runs of this test must not cross.
+const std::string kUrl = test::private_lcm_url();
+
+// A child process with stderr in a log file; stopped by PID with SIGTERM.
+class Child {
+ public:
+  Child(const std::string& exe, std::vector<std::string> args, const std::string& log)
+      : log_(log) {
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  ~Child() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  /// SIGTERM, then the exit status (-1 when it did not exit within the timeout).
+  int stop(double timeout_s = 10.0) {
+    if (pid_ <= 0) return -1;
+    ::kill(pid_, SIGTERM);
+    const double end = runtime::mono_s() + timeout_s;
+    int status = 0;
+    while (runtime::mono_s() < end) {
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+  std::string log() const {
+    std::ifstream in(log_);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+ private:
+  pid_t pid_ = -1;
+  std::string log_;
+};
+
+std::unique_ptr<Child> start_sim(int run) {
+  return std::make_unique<Child>(
+      PORTER_SIM_EXE,
+      std::vector<std::string>{"--config", kSource + "/config/drivers/porter_sim.yaml",
+                               "--lcm-url", kUrl},
+      "multiprocess_porter_sim_" + std::to_string(run) + ".log");
+}
+
+struct Observer {
+  explicit Observer(const std::string& url) : lcm(url) {
+    lcm.subscribe(channels::kBaseState, [this](const porter::base_state_t& s) {
+      std::lock_guard<std::mutex> l(m);
+      base = s;
+      ++base_count;
+    });
+    lcm.subscribe(channels::kSimTruth, [this](const porter::robot_state_t& s) {
+      std::lock_guard<std::mutex> l(m);
+      truth = s;
+      ++truth_count;
+    });
+    lcm.subscribe(channels::kLioPose, [this](const porter::pose_t& p) {
+      std::lock_guard<std::mutex> l(m);
+      lio = p;
+      ++lio_count;
+    });
+    thread = std::thread([this] {
+      while (!stop.load()) lcm.handle_timeout(20);
+    });
+  }
+  ~Observer() {
+    stop = true;
+    thread.join();
+  }
+  bool wait_for(const std::function<bool()>& pred, double timeout_s) {
+    const double end = runtime::mono_s() + timeout_s;
+    while (runtime::mono_s() < end) {
+      {
+        std::lock_guard<std::mutex> l(m);
+        if (pred()) return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+  void command(double v, double w) {
+    porter::base_cmd_t c;
+    c.utime = runtime::wall_utime();
+    c.enabled = true;
+    c.v_mps = v;
+    c.omega_radps = w;
+    c.plan_id = -1;
+    c.source = "multiprocess_test";
+    lcm.publish(channels::kBaseCmd, c);
+  }
+  void stream(double v, double w, double seconds) {
+    const double end = runtime::mono_s() + seconds;
+    while (runtime::mono_s() < end) {
+      command(v, w);
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+  }
+  void sim_command(std::int8_t kind, const std::string& target, double duration_s = 0) {
+    porter::sim_command_t c;
+    c.utime = runtime::wall_utime();
+    c.command_id = ++command_id;
+    c.command = kind;
+    c.target = target;
+    c.duration_s = duration_s;
+    c.center_x_m = 3.0;
+    c.center_z_m = 0.5;
+    c.size_x_m = c.size_y_m = c.size_z_m = 0.5;
+    c.source = "multiprocess_test";
+    lcm.publish(channels::kSimCommand, c);
+  }
+
+  LcmBus lcm;
+  std::mutex m;
+  porter::base_state_t base;
+  porter::robot_state_t truth;
+  porter::pose_t lio;
+  long base_count = 0, truth_count = 0, lio_count = 0;
+  std::int64_t command_id = 0;
+  std::atomic<bool> stop{false};
+  std::thread thread;
+};
+
+bool contains(const std::string& text, const std::string& what) {
+  return text.find(what) != std::string::npos;
+}
+
+TEST(MultiProcess, PorterBaseDrivesPorterSimOverLcmCan) {
+  Observer obs(kUrl);
+  auto sim = start_sim(1);
+  Child base(PORTER_BASE_EXE,
+             {"--config", kSource + "/config/drivers/porter_base.yaml", "--lcm-url", kUrl},
+             "multiprocess_porter_base.log");
+  ASSERT_GT(sim->pid(), 0);
+  ASSERT_GT(base.pid(), 0);
+  auto in_can_mode = [&] {
+    return obs.base_count > 0 && obs.base.link_ok &&
+           obs.base.control_mode == porter::base_state_t::MODE_CAN;
+  };
+  ASSERT_TRUE(obs.wait_for(in_can_mode, 20.0)) << base.log() << sim->log();
+  double x0 = 0, y0 = 0;
+  ASSERT_TRUE(obs.wait_for([&] { return obs.truth_count > 0 && obs.lio_count > 0; }, 5.0));
+  {
+    std::lock_guard<std::mutex> l(obs.m);
+    x0 = obs.truth.x_m;
+    y0 = obs.truth.y_m;
+    EXPECT_EQ(obs.truth.pose_source, porter::robot_state_t::POSE_SIM_TRUTH);
+    EXPECT_EQ(obs.truth.num_joints, 6);
+  }
+  obs.stream(0.3, 0.0, 2.0);
+  {
+    std::lock_guard<std::mutex> l(obs.m);
+    EXPECT_NEAR(obs.base.v_mps, 0.3, 0.002);
+    EXPECT_NEAR(obs.truth.v_mps, 0.3, 0.002);
+    const double moved = std::hypot(obs.truth.x_m - x0, obs.truth.y_m - y0);
+    EXPECT_GT(moved, 0.3);
+    // Wheel odometry (porter-base) and LIO (porter-sim) see the same motion.
+    EXPECT_NEAR(std::hypot(obs.base.odom_x_m, obs.base.odom_y_m), moved, 0.1);
+    EXPECT_NEAR(obs.lio.x_m, obs.truth.x_m, 0.1);
+  }
+  // Power cycle over SIM_COMMAND: the link drops, the driver re-enables the base.
+  obs.sim_command(porter::sim_command_t::POWER_CYCLE, "scout_mini", 0.6);
+  EXPECT_TRUE(obs.wait_for([&] { return !obs.base.link_ok; }, 5.0));
+  EXPECT_TRUE(obs.wait_for(in_can_mode, 10.0));
+  obs.stream(0.2, 0.0, 1.5);
+  EXPECT_TRUE(obs.wait_for([&] { return std::abs(obs.base.v_mps - 0.2) < 0.002; }, 1.0));
+  // World changes and refusals are acknowledged in porter-sim's log.
+  obs.sim_command(porter::sim_command_t::ADD_BOX, "crate");
+  obs.sim_command(porter::sim_command_t::REMOVE_OBSTACLE, "crate");
+  obs.sim_command(porter::sim_command_t::POWER_CYCLE, "no_such_device", 0.1);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const std::string sim_log = sim->log();
+  EXPECT_TRUE(contains(sim_log, "added box 'crate'")) << sim_log;
+  EXPECT_TRUE(contains(sim_log, "removed obstacle 'crate'")) << sim_log;
+  EXPECT_TRUE(contains(sim_log, "refused: no device 'no_such_device'")) << sim_log;
+
+  // porter-sim restarts: porter-base loses the link and picks the new base up again.
+  EXPECT_EQ(sim->stop(), 0) << sim->log();
+  EXPECT_TRUE(obs.wait_for([&] { return !obs.base.link_ok; }, 5.0));
+  sim = start_sim(2);
+  EXPECT_TRUE(obs.wait_for(in_can_mode, 20.0)) << base.log();
+  obs.stream(0.2, 0.0, 1.0);
+  EXPECT_TRUE(obs.wait_for([&] { return std::abs(obs.base.v_mps - 0.2) < 0.002; }, 1.0));
+
+  const int base_exit = base.stop();
+  const std::string base_log = base.log();
+  EXPECT_EQ(base_exit, 0) << base_log;
+  EXPECT_EQ(sim->stop(), 0) << sim->log();
+  EXPECT_TRUE(contains(base_log, "CAN feedback lost")) << base_log;
+  EXPECT_TRUE(contains(base_log, "stopping: sent a zero 0x111")) << base_log;
+}
+
+}  // namespace
+}  // namespace porter
