@@ -78,7 +78,6 @@ void SimulatedMid360::sample_state(std::int64_t t0_ns, std::int64_t t1_ns) {
 void SimulatedMid360::advance(double t0_s, double t1_s, std::vector<SimPacket>& out,
                               std::vector<SimRay>* rays) {
   if (!(t1_s > t0_s)) return;
-  sample_state(to_ns(t0_s), to_ns(t1_s));
 
   // Skip packets of an interval no call covered.
   const double rate = params_.pattern.point_rate_hz;
@@ -92,14 +91,20 @@ void SimulatedMid360::advance(double t0_s, double t1_s, std::vector<SimPacket>& 
     if (k_after_t0 > 0.0) next_imu_ = std::max(next_imu_, static_cast<std::uint64_t>(k_after_t0));
   }
 
+  // Sub-steps of at most 10 ms keep every time a packet needs inside the 50 ms history.
   const std::size_t first = out.size();
-  while (packet_time_s(next_packet_) <= t1_s) {
-    out.emplace_back();
-    make_point_packet(next_packet_++, out.back(), rays);
-  }
-  while (params_.imu_enabled && imu_time_s(next_imu_) <= t1_s) {
-    out.emplace_back();
-    make_imu_packet(next_imu_++, out.back());
+  for (double a = t0_s; a < t1_s;) {
+    const double b = std::min(t1_s, a + 0.01);
+    sample_state(to_ns(a), to_ns(b));
+    while (packet_time_s(next_packet_) <= b) {
+      out.emplace_back();
+      make_point_packet(next_packet_++, out.back(), rays);
+    }
+    while (params_.imu_enabled && imu_time_s(next_imu_) <= b) {
+      out.emplace_back();
+      make_imu_packet(next_imu_++, out.back());
+    }
+    a = b;
   }
   std::stable_sort(out.begin() + static_cast<std::ptrdiff_t>(first), out.end(),
                    [](const SimPacket& a, const SimPacket& b) { return a.time_s < b.time_s; });

@@ -16,7 +16,8 @@
 // for time_type 0, a PTP/GPS epoch time otherwise).
 //
 // Motion: the state function is called only for times in (t0, t1] of the current advance()
-// (every state_sample_period_s and at t1) and the samples are kept for 50 ms; a ray's sensor
+// (on the grid of state_sample_period_s and at the end of each internal 10 ms sub-step; a long
+// advance() is worked through in such sub-steps), and the samples are kept for 50 ms; a ray's sensor
 // pose is interpolated at its own time, the robot's links are posed at the middle of each
 // packet (a packet spans 0.475 ms: at 1 m/s the payload moves 0.24 mm within it). The IMU
 // (gyro and specific force at the IMU's position, in the point frame's axes) differentiates
