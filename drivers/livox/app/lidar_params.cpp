@@ -51,9 +51,12 @@ LidarParams load_lidar_params(const std::string& path) {
   if (p.imu_frame_id.empty()) imu.get("frame_id").fail("must not be empty");
 
   const yaml::Reader time = root.get("time");
-  time.expect_keys({"host_window_s", "reset_threshold_s"});
+  time.expect_keys({"host_window_s", "reset_threshold_s", "max_clamp_s"});
   p.stream.host_time.window_s = time.get("host_window_s").as_nonnegative();
   p.stream.host_time.reset_threshold_s = time.get("reset_threshold_s").as_positive();
+  const yaml::Reader clamp = time.get("max_clamp_s");
+  p.stream.host_time.max_clamp_s = clamp.as_nonnegative();
+  if (p.stream.host_time.max_clamp_s > 0.01) clamp.fail("must be at most 0.01 s");
 
   p.stream.decode.check_crc = root.get("check_crc").as_bool();
   p.stream_timeout_s = root.get("stream_timeout_s").as_positive();

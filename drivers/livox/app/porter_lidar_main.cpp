@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
   porter::imu_t imu_msg;
   std::uint64_t publish_failures = 0;
   std::uint64_t malformed_seen = 0, lost_seen = 0;
+  std::int64_t last_fault_ns = 0;  // monotonic time of the last new malformed or lost packet
   std::int64_t last_log_ns = rt::mono_ns();
   LidarStreamCounters at_last_log;
   bool streaming = false;
@@ -111,8 +112,8 @@ int main(int argc, char** argv) {
     }
     clouds.clear();
 
-    // Health: silent sensor = warn (error after the stream was up); new malformed or lost
-    // packets since the last heartbeat = warn.
+    // Health: waiting for the sensor = warn, silent sensor = error; malformed or lost packets
+    // within the last two seconds = warn.
     const LidarStreamCounters& c = stream.counters();
     const std::int64_t last_rx = std::max(stream.last_point_receive_ns(), stream.last_imu_receive_ns());
     const bool silent = last_rx == 0 || now_wall - last_rx > static_cast<std::int64_t>(params.stream_timeout_s * 1e9);
@@ -120,6 +121,11 @@ int main(int argc, char** argv) {
     if (silent && streaming) rt::log_warn("sensor stream stopped (no packet for " + std::to_string(params.stream_timeout_s) + " s)");
     streaming = !silent;
     const std::uint64_t lost = c.lost_point_packets + c.lost_imu_packets;
+    if (c.decode.malformed() != malformed_seen || lost != lost_seen) {
+      malformed_seen = c.decode.malformed();
+      lost_seen = lost;
+      last_fault_ns = rt::mono_ns();
+    }
     auto health = rt::HeartbeatHealth::ok;
     std::string status = stream.summary();
     if (publish_failures > 0) status += ", publish failures " + std::to_string(publish_failures);
@@ -129,13 +135,10 @@ int main(int argc, char** argv) {
     } else if (silent) {
       health = rt::HeartbeatHealth::error;
       status = "no packets; " + status;
-    } else if (c.decode.malformed() != malformed_seen || lost != lost_seen) {
+    } else if (last_fault_ns != 0 && rt::mono_ns() - last_fault_ns < 2000000000LL) {
       health = rt::HeartbeatHealth::warn;
     }
-    if (heartbeat.update(health, status)) {
-      malformed_seen = c.decode.malformed();
-      lost_seen = lost;
-    }
+    heartbeat.update(health, status);
 
     const std::int64_t now = rt::mono_ns();
     const double dt_s = (now - last_log_ns) * 1e-9;
@@ -151,7 +154,9 @@ int main(int argc, char** argv) {
       publish_ms_max = 0.0;
     }
   }
-  rt::log_info("stopping: " + std::to_string(stream.counters().clouds) + " clouds, " +
-               std::to_string(stream.counters().points) + " points; " + stream.summary());
+  const LidarStreamCounters& total = stream.counters();
+  rt::log_info("stopping: " + std::to_string(total.point_packets) + " point packets, " +
+               std::to_string(total.imu_packets) + " IMU packets, " + std::to_string(total.clouds) +
+               " clouds, " + std::to_string(total.points) + " points; " + stream.summary());
   return 0;
 }

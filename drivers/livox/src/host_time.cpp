@@ -8,7 +8,8 @@ namespace porter::livox {
 HostTimeMapper::HostTimeMapper(HostTimeParams params)
     : params_(params),
       window_ns_(static_cast<std::int64_t>(std::max(0.0, params.window_s) * 1e9)),
-      reset_ns_(static_cast<std::int64_t>(std::max(1e-6, params.reset_threshold_s) * 1e9)) {}
+      reset_ns_(static_cast<std::int64_t>(std::max(1e-6, params.reset_threshold_s) * 1e9)),
+      max_clamp_ns_(static_cast<std::int64_t>(std::max(0.0, params.max_clamp_s) * 1e9)) {}
 
 std::int64_t HostTimeMapper::map(std::uint64_t sensor_first_ns, std::int64_t span_ns,
                                  std::int64_t receive_ns, int stream) {
@@ -40,8 +41,12 @@ std::int64_t HostTimeMapper::map(std::uint64_t sensor_first_ns, std::int64_t spa
   }
   std::int64_t first = sensor_ns + offset_ns_;
   if (have_end_[k] && first < last_end_ns_[k]) {
-    first = last_end_ns_[k];
-    ++clamped_;
+    if (last_end_ns_[k] - first <= max_clamp_ns_) {
+      first = last_end_ns_[k];
+      ++clamped_;
+    } else {
+      ++steps_back_;
+    }
   }
   have_end_[k] = true;
   last_end_ns_[k] = first + span_ns;

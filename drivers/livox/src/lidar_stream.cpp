@@ -94,6 +94,7 @@ std::string LidarStream::summary() const {
     s += ", over capacity " + std::to_string(assembler_.points_over_capacity());
   }
   if (host_time_.resets() > 0) s += ", clock resets " + std::to_string(host_time_.resets());
+  if (host_time_.steps_back() > 0) s += ", clock steps back " + std::to_string(host_time_.steps_back());
   return s;
 }
 

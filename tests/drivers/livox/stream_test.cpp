@@ -97,17 +97,21 @@ TEST(HostTimeMapper, FollowsClockDriftAndRestartsAfterASensorReboot) {
   EXPECT_EQ(mapped, host - kSpanNs);
 }
 
-TEST(HostTimeMapper, WindowZeroIsEachPacketsOwnReceiveTimeAndStreamsStayMonotonic) {
-  HostTimeMapper m({0.0, 0.5});
-  EXPECT_EQ(m.map(1000000, kSpanNs, 5'000'000'000LL), 5'000'000'000LL - kSpanNs);
-  // A packet received "earlier" than the previous one's last sample is clamped to it.
-  const std::int64_t a = m.map(1000000 + kPacketNs, kSpanNs, 5'000'000'000LL + kPacketNs);
-  const std::int64_t b = m.map(1000000 + 2 * kPacketNs, kSpanNs, 5'000'000'000LL + kPacketNs + 1000);
-  EXPECT_GE(b, a + kSpanNs);
+TEST(HostTimeMapper, WindowZeroIsEachPacketsOwnReceiveTimeAndSmallStepsBackAreClamped) {
+  HostTimeMapper m({/*window_s=*/0.0, /*reset_threshold_s=*/0.5, /*max_clamp_s=*/100e-6});
+  const std::int64_t r0 = 5'000'000'000LL;
+  const std::uint64_t s0 = 1'000'000;
+  EXPECT_EQ(m.map(s0, kSpanNs, r0), r0 - kSpanNs);
+  // Received 50 us "early": its first sample would precede the previous packet's last by
+  // 45 us, so it is moved to it.
+  EXPECT_EQ(m.map(s0 + kPacketNs, kSpanNs, r0 + kPacketNs - 50000), r0);
   EXPECT_EQ(m.clamped(), 1u);
+  // 400 us early: a step back of 390 us is taken as it is.
+  EXPECT_EQ(m.map(s0 + 2 * kPacketNs, kSpanNs, r0 + 2 * kPacketNs - 400000), r0 + 2 * kPacketNs - 400000 - kSpanNs);
+  EXPECT_EQ(m.clamped(), 1u);
+  EXPECT_EQ(m.steps_back(), 1u);
   // The IMU stream has its own clamp: an IMU sample older than the points is not moved.
-  const std::int64_t imu = m.map(1000000, 0, 5'000'000'000LL, /*stream=*/1);
-  EXPECT_EQ(imu, 5'000'000'000LL);
+  EXPECT_EQ(m.map(s0, 0, r0, /*stream=*/1), r0);
   EXPECT_EQ(m.clamped(), 1u);
 }
 

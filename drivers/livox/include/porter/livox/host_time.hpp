@@ -15,9 +15,12 @@
 //
 // An offset that moves by more than reset_threshold_s (sensor reboot, clock change) restarts
 // the window; resets() counts such restarts. Within each stream (points, IMU: their packets
-// interleave out of order when read from two sockets) mapped times never decrease: a packet
-// whose mapped time would precede the stream's previous last sample is moved forward to it
-// (clamped() counts them).
+// interleave out of order when read from two sockets) a packet whose mapped time would precede
+// the stream's previous last sample by at most max_clamp_s is moved forward to it (clamped()
+// counts them), so jitter-sized offset changes keep times monotonic; each clamp shortens the
+// next packets' spacing (95/96 of it for point packets) until the offset's step is absorbed, so
+// a larger step back (the first window finding a smaller delay than its first packets had) is
+// taken at once instead (steps_back() counts them) rather than squeezing seconds of points.
 //
 // Thread-safety: one thread per mapper.
 
@@ -30,6 +33,8 @@ struct HostTimeParams {
   double window_s = 1.0;
   /// An offset change larger than this, s (> 0), restarts the filter.
   double reset_threshold_s = 0.5;
+  /// Largest backward step absorbed by clamping, s (>= 0).
+  double max_clamp_s = 100e-6;
 };
 
 class HostTimeMapper {
@@ -47,11 +52,13 @@ class HostTimeMapper {
   std::int64_t offset_ns() const { return offset_ns_; }
   std::uint64_t resets() const { return resets_; }
   std::uint64_t clamped() const { return clamped_; }
+  std::uint64_t steps_back() const { return steps_back_; }
 
  private:
   HostTimeParams params_;
   std::int64_t window_ns_;
   std::int64_t reset_ns_;
+  std::int64_t max_clamp_ns_;
   bool started_ = false;
   std::int64_t bucket_start_ns_ = 0;  // receive time the current bucket began
   std::int64_t current_min_ = 0;
@@ -62,6 +69,7 @@ class HostTimeMapper {
   bool have_end_[2] = {false, false};
   std::uint64_t resets_ = 0;
   std::uint64_t clamped_ = 0;
+  std::uint64_t steps_back_ = 0;
 };
 
 }  // namespace porter::livox
