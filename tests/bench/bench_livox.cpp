@@ -181,6 +181,8 @@ void bench_driver(double seconds) {
   const std::string cfg = "/tmp/porter_bench_livox_" + std::to_string(::getpid()) + ".yaml";
   std::ofstream(cfg) << "lcm_url: \"udpm://239.255.76.67:7763?ttl=0\"\n"
                         "network: {address: 127.0.0.1, point_port: 57363, imu_port: 57463, receive_buffer_bytes: 4194304}\n"
+         "device: {configure: false, lidar_address: 127.0.0.1, lidar_command_port: 56100, host_address: 127.0.0.1,\n"
+         "         host_command_port: 56101, host_push_port: 56201, retry_period_s: 2.0}\n"
                         "cloud: {rate_hz: 10.0, frame_id: lidar, extrinsic: {xyz: [0, 0, 0], rpy: [0, 0, 0]},\n"
                         "        keep_no_return: false, max_points: 400000}\n"
                         "imu: {frame_id: lidar_imu}\n"

@@ -15,8 +15,8 @@ std::uint16_t port(const yaml::Reader& r) {
 
 LidarParams load_lidar_params(const std::string& path) {
   const yaml::Reader root = yaml::Reader::load_file(path);
-  root.expect_keys({"lcm_url", "network", "cloud", "imu", "time", "check_crc", "stream_timeout_s",
-                    "status_log_period_s"});
+  root.expect_keys({"lcm_url", "network", "device", "cloud", "imu", "time", "check_crc",
+                    "stream_timeout_s", "status_log_period_s"});
   LidarParams p;
   p.lcm_url = root.get("lcm_url").as_string();
 
@@ -29,6 +29,20 @@ LidarParams load_lidar_params(const std::string& path) {
   const yaml::Reader buf = net.get("receive_buffer_bytes");
   p.receive_buffer_bytes = buf.as_int();
   if (p.receive_buffer_bytes < 65536) buf.fail("must be at least 65536");
+
+  const yaml::Reader dev = root.get("device");
+  dev.expect_keys({"configure", "lidar_address", "lidar_command_port", "host_address",
+                   "host_command_port", "host_push_port", "retry_period_s"});
+  p.device.configure = dev.get("configure").as_bool();
+  std::array<std::uint8_t, 4> ip{};
+  p.device.lidar_address = dev.get("lidar_address").as_string();
+  if (!parse_ipv4(p.device.lidar_address, ip)) dev.get("lidar_address").fail("expected an IPv4 address");
+  p.device.lidar_command_port = port(dev.get("lidar_command_port"));
+  p.device.host_address = dev.get("host_address").as_string();
+  if (!parse_ipv4(p.device.host_address, ip)) dev.get("host_address").fail("expected an IPv4 address");
+  p.device.host_command_port = port(dev.get("host_command_port"));
+  p.device.host_push_port = port(dev.get("host_push_port"));
+  p.device.retry_period_s = dev.get("retry_period_s").as_positive();
 
   const yaml::Reader cloud = root.get("cloud");
   cloud.expect_keys({"rate_hz", "frame_id", "extrinsic", "keep_no_return", "max_points"});

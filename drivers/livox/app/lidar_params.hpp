@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "lidar_device.hpp"
 #include "porter/livox/lidar_stream.hpp"
 
 namespace porter::livox::app {
@@ -20,6 +21,7 @@ struct LidarParams {
   double stream_timeout_s = 1.0;       ///< no packet for this long: cloud flushed, health warns
   double status_log_period_s = 10.0;   ///< a log line with rates and counts this often
   LidarStreamParams stream;
+  DeviceParams device;
 };
 
 LidarParams load_lidar_params(const std::string& path);

@@ -56,12 +56,15 @@ LidarSimSetup load_lidar_sim_setup(const std::string& path) {
   if (s.waypoints.empty()) s.waypoints.push_back({0.0, s.scene.start});
 
   const yaml::Reader net = root.get("network");
-  net.expect_keys({"destination", "point_port", "imu_port", "point_source_port", "imu_source_port"});
+  net.expect_keys({"destination", "point_port", "imu_port", "point_source_port", "imu_source_port",
+                   "command_port", "sampling_at_start"});
   s.network.destination = net.get("destination").as_string();
   s.network.point_port = port(net.get("point_port"), false);
   s.network.imu_port = port(net.get("imu_port"), false);
   s.network.point_source_port = port(net.get("point_source_port"), true);
   s.network.imu_source_port = port(net.get("imu_source_port"), true);
+  s.command_port = port(net.get("command_port"), true);
+  s.sampling_at_start = net.get("sampling_at_start").as_bool();
 
   const yaml::Reader step = root.get("step_period_s");
   s.step_period_s = step.as_positive();

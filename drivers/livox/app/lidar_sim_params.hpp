@@ -20,6 +20,8 @@ struct LidarSimSetup {
   Scene scene;
   std::vector<sim::Waypoint> waypoints; ///< the scene's start configuration when none given
   bool loop = false;
+  std::uint16_t command_port = 0;       ///< the sensor's command port; 0 = no command channel
+  bool sampling_at_start = true;        ///< stream before any command (a sensor set up earlier)
   double step_period_s = 0.001;
   double duration_s = 0.0;              ///< 0 = until stopped
   std::string robot_file, scene_file, payload_file;

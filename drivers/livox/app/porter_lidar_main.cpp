@@ -7,6 +7,7 @@
 // error.
 #include <poll.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -68,6 +69,15 @@ int main(int argc, char** argv) {
                " Hz in frame '" + params.cloud_frame_id + "', CRC check " +
                (params.stream.decode.check_crc ? "on" : "off"));
 
+  std::optional<app::DeviceConfigurator> device;
+  if (params.device.configure) {
+    device = app::DeviceConfigurator::open(params.device, point_rx->port(), imu_rx->port(), error);
+    if (!device) {
+      rt::log_error(error);
+      return 1;
+    }
+  }
+
   LidarStream stream(params.stream);
   rt::Heartbeat heartbeat(bus, "porter-lidar");
   std::vector<Datagram> batch(32);
@@ -84,8 +94,9 @@ int main(int argc, char** argv) {
   double publish_ms_max = 0.0;
 
   while (!rt::stop_requested()) {
-    pollfd fds[3] = {{point_rx->fd(), POLLIN, 0}, {imu_rx->fd(), POLLIN, 0}, {rt::stop_fd(), POLLIN, 0}};
-    ::poll(fds, 3, 100);
+    pollfd fds[4] = {{point_rx->fd(), POLLIN, 0}, {imu_rx->fd(), POLLIN, 0}, {rt::stop_fd(), POLLIN, 0},
+                     {device ? device->fd() : -1, POLLIN, 0}};
+    ::poll(fds, 4, 100);
     for (UdpReceiver* rx : {&*point_rx, &*imu_rx}) {
       for (;;) {
         const int n = rx->receive(batch);
@@ -117,6 +128,7 @@ int main(int argc, char** argv) {
     const LidarStreamCounters& c = stream.counters();
     const std::int64_t last_rx = std::max(stream.last_point_receive_ns(), stream.last_imu_receive_ns());
     const bool silent = last_rx == 0 || now_wall - last_rx > static_cast<std::int64_t>(params.stream_timeout_s * 1e9);
+    if (device) device->step(rt::mono_ns(), !silent);
     if (!silent && !streaming) rt::log_info("sensor stream started");
     if (silent && streaming) rt::log_warn("sensor stream stopped (no packet for " + std::to_string(params.stream_timeout_s) + " s)");
     streaming = !silent;

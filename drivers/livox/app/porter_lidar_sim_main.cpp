@@ -5,10 +5,12 @@
 //
 // Exit codes: 0 after the configured duration or SIGINT/SIGTERM, 1 when a socket or Embree
 // cannot be set up, 2 on a config error.
+#include <optional>
 #include <string>
 
 #include "lidar_sim_params.hpp"
 #include "porter/core/load_error.hpp"
+#include "porter/livox_sim/command_server.hpp"
 #include "porter/livox_sim/realtime_sender.hpp"
 #include "porter/livox_sim/scripted_motion.hpp"
 #include "porter/runtime/clock.hpp"
@@ -57,6 +59,17 @@ int main(int argc, char** argv) {
     rt::log_error(error);
     return 1;
   }
+  sender->set_sampling(setup.sampling_at_start);
+  std::optional<sim::CommandServer> commands;
+  if (setup.command_port != 0) {
+    commands = sim::CommandServer::open("0.0.0.0", setup.command_port, error);
+    if (!commands) {
+      rt::log_error(error);
+      return 1;
+    }
+    rt::log_info("answering sensor commands on :" + std::to_string(setup.command_port) +
+                 (setup.sampling_at_start ? "" : "; idle until told to sample"));
+  }
   rt::log_info("config " + config + "; scene " + setup.scene.name + " (" +
                std::to_string(setup.scene.obstacles.size()) + " obstacles, " +
                std::to_string(lidar.scene().world_triangles()) + " triangles), robot " +
@@ -76,6 +89,7 @@ int main(int argc, char** argv) {
     const std::int64_t now = rt::mono_ns();
     const double t = (now - start) * 1e-9;
     if (setup.duration_s > 0.0 && t >= setup.duration_s) break;
+    if (commands && commands->poll(*sender) > 0) rt::log_info("command applied:" + commands->last_applied());
     sender->step(lidar, t);
     const std::int64_t spent = rt::mono_ns() - now;
     busy_ns += spent;

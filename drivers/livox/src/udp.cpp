@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <algorithm>
 #include <cstring>
 #include <ctime>
 #include <utility>
@@ -192,6 +193,84 @@ long UdpSender::send(const std::uint8_t* data, std::size_t size) {
     return -1;
   }
   return static_cast<long>(n);
+}
+
+std::optional<UdpEndpoint> UdpEndpoint::open(const std::string& local_address, std::uint16_t local_port,
+                                             std::string& error) {
+  const std::string where = "UDP " + local_address + ":" + std::to_string(local_port);
+  sockaddr_in addr{};
+  if (!parse_address(local_address, local_port, addr)) {
+    error = where + ": not an IPv4 address";
+    return std::nullopt;
+  }
+  UdpEndpoint e;
+  e.fd_ = ::socket(AF_INET, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+  if (e.fd_ < 0) {
+    error = errno_text(where + ": socket");
+    return std::nullopt;
+  }
+  if (::bind(e.fd_, reinterpret_cast<const sockaddr*>(&addr), sizeof addr) != 0) {
+    error = errno_text(where + ": bind");
+    return std::nullopt;
+  }
+  sockaddr_in bound{};
+  socklen_t len = sizeof bound;
+  if (::getsockname(e.fd_, reinterpret_cast<sockaddr*>(&bound), &len) == 0) e.port_ = ntohs(bound.sin_port);
+  return e;
+}
+
+UdpEndpoint::UdpEndpoint(UdpEndpoint&& o) noexcept { *this = std::move(o); }
+
+UdpEndpoint& UdpEndpoint::operator=(UdpEndpoint&& o) noexcept {
+  if (this != &o) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = std::exchange(o.fd_, -1);
+    port_ = o.port_;
+    last_error_ = std::move(o.last_error_);
+  }
+  return *this;
+}
+
+UdpEndpoint::~UdpEndpoint() {
+  if (fd_ >= 0) ::close(fd_);
+}
+
+long UdpEndpoint::send_to(const std::string& address, std::uint16_t port, const std::uint8_t* data,
+                          std::size_t size) {
+  sockaddr_in addr{};
+  if (fd_ < 0 || !parse_address(address, port, addr)) {
+    last_error_ = "send to " + address + ":" + std::to_string(port) + ": bad address or closed socket";
+    return -1;
+  }
+  const ssize_t n = ::sendto(fd_, data, size, 0, reinterpret_cast<const sockaddr*>(&addr), sizeof addr);
+  if (n < 0) {
+    last_error_ = errno_text("sendto " + address + ":" + std::to_string(port));
+    return -1;
+  }
+  return static_cast<long>(n);
+}
+
+int UdpEndpoint::receive_from(std::vector<std::uint8_t>& out, bool& truncated, std::string& from_address,
+                              std::uint16_t& from_port) {
+  if (fd_ < 0) return -1;
+  out.resize(2048);
+  sockaddr_in from{};
+  socklen_t len = sizeof from;
+  const ssize_t n = ::recvfrom(fd_, out.data(), out.size(), MSG_DONTWAIT | MSG_TRUNC,
+                               reinterpret_cast<sockaddr*>(&from), &len);
+  if (n < 0) {
+    out.clear();
+    if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR || errno == ECONNREFUSED) return 0;
+    last_error_ = errno_text("recvfrom");
+    return -1;
+  }
+  truncated = static_cast<std::size_t>(n) > out.size();
+  out.resize(std::min(out.size(), static_cast<std::size_t>(n)));
+  char text[INET_ADDRSTRLEN] = {0};
+  ::inet_ntop(AF_INET, &from.sin_addr, text, sizeof text);
+  from_address = text;
+  from_port = ntohs(from.sin_port);
+  return 1;
 }
 
 }  // namespace porter::livox

@@ -70,6 +70,8 @@ TEST(LidarConfig, ShippedFileLoads) {
   EXPECT_TRUE(p.stream.cloud.T_out_sensor.isApprox(Eigen::Isometry3d::Identity()));
   EXPECT_TRUE(p.stream.decode.check_crc);
   EXPECT_DOUBLE_EQ(p.stream.host_time.window_s, 1.0);
+  EXPECT_FALSE(p.device.configure);
+  EXPECT_EQ(p.device.lidar_command_port, 56100);
 }
 
 TEST(LidarConfig, MistakesNameTheKey) {
@@ -86,6 +88,8 @@ TEST(LidarConfig, MistakesNameTheKey) {
                 .find("check_crc"), std::string::npos);
   EXPECT_NE(error_of(std::regex_replace(y, std::regex("  frame_id: lidar_imu"), "  frame: lidar_imu"), load)
                 .find("imu.frame"), std::string::npos);
+  EXPECT_NE(error_of(std::regex_replace(y, std::regex("lidar_address: 192.168.1.100"), "lidar_address: lidar.local"), load)
+                .find("device.lidar_address"), std::string::npos);
   const std::string missing = error_of(std::regex_replace(y, std::regex("stream_timeout_s: 1.0"), ""), load);
   EXPECT_NE(missing.find("stream_timeout_s"), std::string::npos) << missing;
   EXPECT_NE(error_of(std::regex_replace(y, std::regex("rpy: \\[0.0, 0.0, 0.0\\]"), "rpy: [0.0, 0.0]"), load)

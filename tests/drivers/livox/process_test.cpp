@@ -2,7 +2,8 @@
 // the simulated sensor's point rate, field of view and packet layout as decoded and published
 // by the driver; malformed datagrams counted in the driver's HEARTBEAT.
 //
-// Ports used only here: LCM udpm 7761 and 7762; UDP 57361/57461 and 57362/57462.
+// Ports used only here: LCM udpm 7761, 7762, 7764; UDP 57361/57461, 57362/57462, 57364/57464,
+// 57399/57499 and 57564-57566 (porter-bench-livox uses 7763 and 57363/57463).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -45,10 +46,16 @@ std::string write(const std::string& name, const std::string& text) {
   return p;
 }
 
-std::string lidar_config(const std::string& lcm_url, int point_port, int imu_port) {
+const char* kNoDevice =
+    "{configure: false, lidar_address: 127.0.0.1, lidar_command_port: 56100, host_address: 127.0.0.1,\n"
+    "         host_command_port: 56101, host_push_port: 56201, retry_period_s: 2.0}";
+
+std::string lidar_config(const std::string& lcm_url, int point_port, int imu_port,
+                         const std::string& device = kNoDevice) {
   return "lcm_url: \"" + lcm_url + "\"\n"
          "network: {address: 127.0.0.1, point_port: " + std::to_string(point_port) +
          ", imu_port: " + std::to_string(imu_port) + ", receive_buffer_bytes: 4194304}\n"
+         "device: " + device + "\n"
          "cloud: {rate_hz: 10.0, frame_id: lidar, extrinsic: {xyz: [0, 0, 0], rpy: [0, 0, 0]},\n"
          "        keep_no_return: false, max_points: 400000}\n"
          "imu: {frame_id: lidar_imu}\n"
@@ -72,8 +79,9 @@ std::string room_scene() {
          "  - box: {center: [0.0, 0.0, 3.1], size: [8.4, 8.4, 0.2]}\n";
 }
 
-/// The shipped simulator config, pointed at `scene` and the given ports.
-std::string sim_config(const std::string& scene, int point_port, int imu_port) {
+/// The shipped simulator config, pointed at `scene` and the given ports; with a command port the
+/// simulated sensor is idle until told to sample.
+std::string sim_config(const std::string& scene, int point_port, int imu_port, int command_port = 0) {
   std::ifstream f(test::config_path("drivers/porter_lidar_sim.yaml"));
   std::stringstream s;
   s << f.rdbuf();
@@ -88,6 +96,8 @@ std::string sim_config(const std::string& scene, int point_port, int imu_port) {
   replace("imu_port: 56401", "imu_port: " + std::to_string(imu_port));
   replace("point_source_port: 56300", "point_source_port: 0");
   replace("imu_source_port: 56400", "imu_source_port: 0");
+  replace("command_port: 0", "command_port: " + std::to_string(command_port));
+  if (command_port != 0) replace("sampling_at_start: true", "sampling_at_start: false");
   return y;
 }
 
@@ -254,6 +264,35 @@ TEST(LidarProcesses, MalformedDatagramsAreCountedByReasonInTheHeartbeat) {
   EXPECT_TRUE(lidar.running()) << lidar.log();
   EXPECT_EQ(lidar.stop(), 0) << lidar.log();
   EXPECT_NE(lidar.log().find("10 point packets"), std::string::npos) << lidar.log();
+}
+
+TEST(LidarProcesses, TheDriverSetsUpAnIdleSensorOverItsCommandChannel) {
+  // The simulated sensor starts idle, sending (once told to) to a port nobody listens on;
+  // porter-lidar tells it to sample and to send to its own ports.
+  const std::string url = "udpm://239.255.76.67:7764?ttl=0";
+  const std::string scene = write("room_c.yaml", room_scene());
+  const std::string device =
+      "{configure: true, lidar_address: 127.0.0.1, lidar_command_port: 57564, host_address: 127.0.0.1,\n"
+      "         host_command_port: 57565, host_push_port: 57566, retry_period_s: 0.5}";
+  const std::string lidar_cfg = write("lidar_c.yaml", lidar_config(url, 57364, 57464, device));
+  const std::string sim_cfg = write("sim_c.yaml", sim_config(scene, 57399, 57499, 57564));
+  LcmBus bus(url + "&recv_buf_size=4194304");
+  ASSERT_TRUE(bus.good());
+  test::ChildProcess sim(PORTER_LIDAR_SIM_BIN, {"--config", sim_cfg}, temp_path("sim_c.log"));
+  temp_files.paths.push_back(temp_path("sim_c.log"));
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  test::ChildProcess lidar(PORTER_LIDAR_BIN, {"--config", lidar_cfg}, temp_path("lidar_c.log"));
+  temp_files.paths.push_back(temp_path("lidar_c.log"));
+  Received r;
+  collect(bus, r, lidar.pid(), 15.0, [&] { return r.clouds.size() >= 5 && r.imu.size() >= 100; });
+  sim.stop();
+  lidar.stop();
+  EXPECT_GE(r.clouds.size(), 5u) << lidar.log() << sim.log();
+  EXPECT_GE(r.imu.size(), 100u);
+  EXPECT_NE(lidar.log().find("sensor 127.0.0.1 configured: points to 127.0.0.1:57364, IMU to :57464, sampling"),
+            std::string::npos) << lidar.log();
+  EXPECT_NE(sim.log().find("command applied: points to 127.0.0.1:57364 imu to 127.0.0.1:57464 sampling"),
+            std::string::npos) << sim.log();
 }
 
 }  // namespace

@@ -8,7 +8,7 @@ std::optional<RealtimeSender> RealtimeSender::open(const RealtimeSenderParams& p
   if (!points) return std::nullopt;
   auto imu = UdpSender::open(params.destination, params.imu_port, params.imu_source_port, error);
   if (!imu) return std::nullopt;
-  return RealtimeSender(std::move(*points), std::move(*imu));
+  return RealtimeSender(params, std::move(*points), std::move(*imu));
 }
 
 std::size_t RealtimeSender::step(SimulatedMid360& lidar, double now_s) {
@@ -16,6 +16,7 @@ std::size_t RealtimeSender::step(SimulatedMid360& lidar, double now_s) {
   packets_.clear();
   lidar.advance(last_s_, now_s, packets_);
   last_s_ = now_s;
+  if (!sampling_) return 0;
   std::size_t sent = 0;
   for (const SimPacket& p : packets_) {
     UdpSender& socket = p.stream == SimPacket::Stream::points ? points_ : imu_;
@@ -29,6 +30,20 @@ std::size_t RealtimeSender::step(SimulatedMid360& lidar, double now_s) {
   }
   sent_ += sent;
   return sent;
+}
+
+bool RealtimeSender::set_destination(SimPacket::Stream stream, const std::string& address, std::uint16_t port) {
+  const bool points = stream == SimPacket::Stream::points;
+  std::string error;
+  auto socket = UdpSender::open(address, port, points ? params_.point_source_port : params_.imu_source_port, error);
+  if (!socket) {
+    last_error_ = error;
+    return false;
+  }
+  (points ? points_ : imu_) = std::move(*socket);
+  (points ? params_.point_port : params_.imu_port) = port;
+  params_.destination = address;
+  return true;
 }
 
 }  // namespace porter::livox::sim

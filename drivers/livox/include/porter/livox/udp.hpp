@@ -83,4 +83,35 @@ class UdpSender {
   std::string last_error_;
 };
 
+/// A bound UDP socket that sends to any address and receives from any (the command channel:
+/// porter-lidar talks to the sensor's command port, the simulated sensor answers).
+class UdpEndpoint {
+ public:
+  /// Binds to local_address:local_port (port 0: the kernel chooses).
+  static std::optional<UdpEndpoint> open(const std::string& local_address, std::uint16_t local_port,
+                                         std::string& error);
+  UdpEndpoint(UdpEndpoint&& other) noexcept;
+  UdpEndpoint& operator=(UdpEndpoint&& other) noexcept;
+  UdpEndpoint(const UdpEndpoint&) = delete;
+  UdpEndpoint& operator=(const UdpEndpoint&) = delete;
+  ~UdpEndpoint();
+
+  int fd() const { return fd_; }
+  std::uint16_t port() const { return port_; }
+  /// Sends one datagram to address:port; bytes sent or -1 (last_error()).
+  long send_to(const std::string& address, std::uint16_t port, const std::uint8_t* data, std::size_t size);
+  /// Reads one waiting datagram without blocking into `out` (resized to its length; a longer
+  /// datagram is cut at out's capacity of 2048 bytes and `truncated` set). Returns 1 when one
+  /// was read, 0 when none waits, -1 on error. from_address/from_port: the sender.
+  int receive_from(std::vector<std::uint8_t>& out, bool& truncated, std::string& from_address,
+                   std::uint16_t& from_port);
+  const std::string& last_error() const { return last_error_; }
+
+ private:
+  UdpEndpoint() = default;
+  int fd_ = -1;
+  std::uint16_t port_ = 0;
+  std::string last_error_;
+};
+
 }  // namespace porter::livox

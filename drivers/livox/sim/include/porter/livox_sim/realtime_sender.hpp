@@ -31,9 +31,16 @@ class RealtimeSender {
  public:
   static std::optional<RealtimeSender> open(const RealtimeSenderParams& params, std::string& error);
 
-  /// Advances `lidar` from the previous step's time (0 at first) to now_s and sends the packets.
-  /// Returns how many were sent.
+  /// Advances `lidar` from the previous step's time (0 at first) to now_s and sends the packets
+  /// (none while not sampling: the sensor is idle, its time still runs). Returns how many were
+  /// sent.
   std::size_t step(SimulatedMid360& lidar, double now_s);
+
+  /// New destination of the point or IMU stream (a sensor told so over its command channel).
+  /// False, with last_error(), when the socket cannot be opened (the old one is kept).
+  bool set_destination(SimPacket::Stream stream, const std::string& address, std::uint16_t port);
+  void set_sampling(bool on) { sampling_ = on; }
+  bool sampling() const { return sampling_; }
 
   std::uint64_t sent() const { return sent_; }
   std::uint64_t send_failures() const { return failures_; }
@@ -41,7 +48,10 @@ class RealtimeSender {
   double time_s() const { return last_s_; }
 
  private:
-  RealtimeSender(UdpSender points, UdpSender imu) : points_(std::move(points)), imu_(std::move(imu)) {}
+  RealtimeSender(const RealtimeSenderParams& p, UdpSender points, UdpSender imu)
+      : params_(p), points_(std::move(points)), imu_(std::move(imu)) {}
+  RealtimeSenderParams params_;
+  bool sampling_ = true;
   UdpSender points_;
   UdpSender imu_;
   std::vector<SimPacket> packets_;
