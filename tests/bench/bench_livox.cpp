@@ -109,8 +109,8 @@ Mid360SimParams params() {
 
 void bench_sim(double seconds) {
   std::printf("== simulated MID-360, one thread, %.0f s simulated per scene (200,000 points/s) ==\n", seconds);
-  std::printf("%-8s %9s %8s %9s %12s %8s %8s | %12s %14s %6s\n", "scene", "triangles", "returns", "self hits",
-              "rays/s (CPU)", "RTF", "CPU %", "Embree world", "SceneRayCaster", "ratio");
+  std::printf("%-8s %9s %8s %9s %12s %8s %8s %8s | %12s %14s %6s\n", "scene", "triangles", "returns", "self hits",
+              "rays/s (CPU)", "CPU %", "RTF CPU", "RTF wall", "Embree world", "SceneRayCaster", "ratio");
   for (const Case& c : cases()) {
     const ScriptedMotion motion = motion_from(c.start, seconds);
     SimulatedMid360 lidar(params(), c.robot, c.obstacles, [&](double t) { return motion.at(t); });
@@ -149,14 +149,16 @@ void bench_sim(double seconds) {
     t0 = thread_cpu_s();
     for (int i = 0; i < n; ++i) sink += reference.cast(o, dirs[i], 40.0).distance_m;
     const double ref_rate = n / (thread_cpu_s() - t0);
-    std::printf("%-8s %9zu %7.1f%% %8.2f%% %12.3g %8.1f %7.1f%% | %12.3g %14.3g %5.2fx%s\n", c.name.c_str(),
+    std::printf("%-8s %9zu %7.1f%% %8.2f%% %12.3g %7.1f%% %8.1f %8.1f | %12.3g %14.3g %5.2fx%s\n", c.name.c_str(),
                 embree.world_triangles() + lidar.scene().robot_triangles(), 100.0 * st.returns / st.rays,
-                100.0 * self / st.rays, st.rays / cpu, seconds / wall, 100.0 * cpu / seconds, embree_rate,
-                ref_rate, embree_rate / ref_rate, sink == 12345.0 ? " " : "");
+                100.0 * self / st.rays, st.rays / cpu, 100.0 * cpu / seconds, seconds / cpu, seconds / wall,
+                embree_rate, ref_rate, embree_rate / ref_rate, sink == 12345.0 ? " " : "");
   }
   std::printf("columns: returns = rays with a return; self hits = rays ending on the robot or payload;\n"
               "rays/s = rays per thread-CPU second of advance() (ray casting, motion, IMU, encoding);\n"
-              "RTF = simulated s per wall s; CPU %% = CPU s per simulated s (share of one core to keep up);\n"
+              "CPU %% = CPU s per simulated s (share of one core needed to keep real time); RTF CPU =\n"
+              "simulated s per CPU s (the real-time factor on a core of its own); RTF wall = simulated s\n"
+              "per wall s in this run (lower when other processes share the core);\n"
               "last three: world-only casts of 20,000 rays of the pattern from the start pose, rays/s.\n");
 }
 
