@@ -2,8 +2,9 @@
 // the simulated sensor's point rate, field of view and packet layout as decoded and published
 // by the driver; malformed datagrams counted in the driver's HEARTBEAT.
 //
-// Ports used only here: LCM udpm 7761, 7762, 7764; UDP 57361/57461, 57362/57462, 57364/57464,
-// 57399/57499 and 57564-57566 (porter-bench-livox uses 7763 and 57363/57463).
+// Ports used only here: LCM udpm 7761, 7762, 7764, 7765; UDP 57361/57461, 57362/57462,
+// 57364/57464, 57365/57465, 57399/57499 and 57564-57566 (porter-bench-livox uses 7763 and
+// 57363/57463).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -268,6 +269,41 @@ TEST(LidarProcesses, MalformedDatagramsAreCountedByReasonInTheHeartbeat) {
   EXPECT_TRUE(lidar.running()) << lidar.log();
   EXPECT_EQ(lidar.stop(), 0) << lidar.log();
   EXPECT_NE(lidar.log().find("10 point packets"), std::string::npos) << lidar.log();
+}
+
+TEST(LidarProcesses, TheDriverKeepsPublishingWhenTheSensorRestarts) {
+  // A restarted sensor's clock starts again from 0: the host-clock mapping restarts and the
+  // clouds go on, later than before.
+  const std::string url = "udpm://239.255.76.67:7765?ttl=0";
+  const std::string scene = write("room_d.yaml", room_scene());
+  const std::string lidar_cfg = write("lidar_d.yaml", lidar_config(url, 57365, 57465));
+  const std::string sim_cfg = write("sim_d.yaml", sim_config(scene, 57365, 57465));
+  LcmBus bus(url + "&recv_buf_size=4194304");
+  ASSERT_TRUE(bus.good());
+  test::ChildProcess lidar(PORTER_LIDAR_BIN, {"--config", lidar_cfg}, temp_path("lidar_d.log"));
+  temp_files.paths.push_back(temp_path("lidar_d.log"));
+  temp_files.paths.push_back(temp_path("sim_d1.log"));
+  temp_files.paths.push_back(temp_path("sim_d2.log"));
+  Received r;
+  {
+    test::ChildProcess sim(PORTER_LIDAR_SIM_BIN, {"--config", sim_cfg}, temp_path("sim_d1.log"));
+    collect(bus, r, lidar.pid(), 15.0, [&] { return r.clouds.size() >= 15; });
+  }  // stopped by PID
+  ASSERT_GE(r.clouds.size(), 15u) << lidar.log();
+  const std::int64_t before = r.clouds.back().utime;
+  const std::size_t n_before = r.clouds.size();
+  test::ChildProcess sim(PORTER_LIDAR_SIM_BIN, {"--config", sim_cfg}, temp_path("sim_d2.log"));
+  Received after;
+  collect(bus, after, lidar.pid(), 15.0, [&] { return after.clouds.size() >= 15; });
+  sim.stop();
+  EXPECT_TRUE(lidar.running()) << lidar.log();
+  EXPECT_EQ(lidar.stop(), 0) << lidar.log();
+  ASSERT_GE(after.clouds.size(), 15u) << lidar.log();
+  EXPECT_GT(after.clouds.front().utime, before);
+  EXPECT_GT(after.clouds.front().scan_id, r.clouds[n_before - 1].scan_id);
+  // Full clouds again once the new stream runs.
+  EXPECT_GE(after.clouds[after.clouds.size() - 2].num_points, 19500);
+  EXPECT_NE(lidar.log().find("clock resets 1"), std::string::npos) << lidar.log();
 }
 
 TEST(LidarProcesses, TheDriverSetsUpAnIdleSensorOverItsCommandChannel) {
