@@ -14,6 +14,7 @@
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/frontend/frontend.hpp"
 #include "porter/midend/midend.hpp"
+#include "porter/pipeline/kernel_acceptance.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 
 namespace porter::backend {
@@ -32,7 +33,7 @@ TEST(BackendBridge, MidendCollisionComesOutCollisionFreeAtHb09) {
   frontend::FrontEnd fe(model, checker);
   fe.set_map(grid);
   const frontend::FrontendResult f = fe.plan(scene.start, scene.goal, 20.0, scene.seed);
-  ASSERT_EQ(f.status, frontend::PlannerStatus::kSuccess) << f.message;
+  ASSERT_EQ(f.status, planner::Status::kSuccess) << f.message;
   const planner::WholeBodyPath& path = f.path;
 
   const midend::MidEnd mid(model);
@@ -40,12 +41,12 @@ TEST(BackendBridge, MidendCollisionComesOutCollisionFreeAtHb09) {
   ASSERT_TRUE(m.ok()) << m.message;
   ASSERT_TRUE(checker.check_trajectory(*m.trajectory).in_collision) << "the fixture must need the back-end";
 
-  BackendSettings settings;
-  settings.problem = mid.settings();
-  const BackEnd backend(model, settings);
+  const BackEnd backend(model, BackendSettings{});
   SvsdfSafetyTerm safety(model, testing::robot_sdf("t_bar"), SvsdfSafetySettings{});
   // A generous budget: the outcome must not depend on the machine's speed.
-  const BackendResult r = backend.solve(path, *m.trajectory, grid, safety, 20.0, &checker);
+  ASSERT_TRUE(m.solution.has_value());
+  const pipeline::KernelAcceptance acceptance(checker);
+  const BackendResult r = backend.solve(*m.solution, grid, safety, planner::Deadline(20.0), &acceptance);
   ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " Js " << r.initial_cost.safety << " -> " << r.final_cost.safety << " min d " << r.final_cost.safety_stats.min_distance_m << " it " << r.iterations << " " << r.message;
   EXPECT_EQ(r.safety_term, "kc_svsdf");
