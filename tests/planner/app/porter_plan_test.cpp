@@ -119,7 +119,7 @@ TEST_F(PorterPlan, PlansAtTheScenesResolution) {
   ASSERT_NE(original.find("resolution: 0.05"), std::string::npos);
   EXPECT_EQ(run("--scene " + with("0.1") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
       << file("stdout.txt") << file("stderr.txt");
-  EXPECT_EQ(run("--scene " + with("0.0125") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
+  EXPECT_EQ(run("--scene " + with("0.025") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
       << file("stdout.txt") << file("stderr.txt");
 }
 
