@@ -85,7 +85,7 @@ WarmStart load_fixture(const std::string& file) {
   return {std::move(path), std::move(t.trajectory)};
 }
 
-/// The safety term's settings as porter-plan builds them (planner/app/backend_stage.cpp): margins
+/// The safety term's settings as the pipeline builds them (Planner::prepare_backend): margins
 /// from the kernel re-check's inflation.
 SvsdfSafetySettings porter_plan_term_settings(const planner::KernelCollisionChecker& checker, const OccupancyGrid& grid,
                                               const RobotSdf& sdf) {
