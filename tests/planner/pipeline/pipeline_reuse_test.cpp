@@ -2,7 +2,9 @@
 // SDFs) is built once and never again for a new map (counted, not timed); the same request on the
 // same map gives the same plan again; a refused map and a missing map are statuses; a canceled
 // request stops before planning; another acceptance test can replace the kernel check.
+#include <chrono>
 #include <memory>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -85,6 +87,32 @@ TEST(PipelineReuse, MapsAndCancellationAreStatuses) {
   EXPECT_FALSE(canceled.frontend.has_value());
   cancel.reset();
   EXPECT_EQ(planner.plan(req).status, planner::Status::kSuccess);
+}
+
+TEST(PipelineReuse, AnotherThreadCancelsARunningPlan) {
+  // Forest, budgets that no stage reaches: the back-end alone runs for seconds (200 iterations),
+  // so the plan is still running when the flag is set 50 ms in.
+  const Scene s = testing::scene("forest", -1.0, 2);
+  PlannerSettings settings = testing::shipped_settings(s);
+  testing::generous_budgets(settings);
+  Planner planner(testing::robot_for(s), settings);
+  ASSERT_TRUE(planner.set_map(voxelize(s)).ok);
+  planner.prepare_backend();
+  planner::CancelFlag cancel;
+  PlanRequest req = testing::request(s);
+  req.cancel = &cancel;
+  std::thread canceller([&cancel] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    cancel.request();
+  });
+  const PlanResult r = planner.plan(req);
+  canceller.join();
+  EXPECT_EQ(r.status, planner::Status::kCanceled) << r.message;
+  // The stage that saw it says so.
+  const bool stage_canceled = (r.frontend && r.frontend->status == planner::Status::kCanceled) ||
+                              (r.midend && r.midend->result.status == planner::Status::kCanceled) ||
+                              (r.backend && r.backend->result.status == planner::Status::kCanceled);
+  EXPECT_TRUE(stage_canceled || r.message == "canceled") << r.message;
 }
 
 /// An acceptance test that refuses everything: the pipeline must consult it for the mid-end's
