@@ -182,7 +182,11 @@ PlanResult Planner::plan(const PlanRequest& req) {
   // 4. Back-end.
   const auto t_setup = Clock::now();
   const bool build = !setup_.backend_ready;
-  prepare_backend();
+  try {
+    prepare_backend();
+  } catch (const std::exception& e) {  // settings validate_settings() does not cover
+    return finish(planner::Status::kInvalidInput, std::string("back-end setup: ") + e.what());
+  }
   const double setup_s = build ? seconds_since(t_setup) : 0.0;
   r.setup_s += setup_s;
   r.backend = detail::run_backend(backend_, mid, map_W_, *safety_term_, self_term_.get(), p.backend_budget_s,

@@ -29,6 +29,12 @@ bool validate_settings(const PlannerSettings& s, std::string* why) {
   if (!nonneg(s.kernels.map.safety_margin_m)) return fail("kernels.safety_margin_m must be >= 0");
   if (!pos(s.kernels.map.distance_cap_m)) return fail("kernels.distance_cap_m must be > 0");
   if (!std::isfinite(s.kernels.motion_step_m)) return fail("kernels.motion_step_m must be finite");
+  const backend::SelfCollisionTermSettings& sc = s.self_collision;
+  if (!pos(sc.weight) || !pos(sc.sample_interval_s) || !pos(sc.point_spacing_m) || !nonneg(sc.slack_m) ||
+      !nonneg(sc.warm_start_slack_m))
+    return fail("self_collision: weight, sample_interval_s and point_spacing_m must be > 0, the slacks >= 0");
+  if (!pos(s.safety_terms.svsdf.weight) || s.safety_terms.svsdf.threads < 1)
+    return fail("safety_terms.svsdf: weight must be > 0 and threads >= 1");
   std::string inner;
   if (!frontend::validate_settings(s.frontend, &inner)) return fail("frontend: " + inner);
   if (!midend::validate_settings(s.midend, &inner)) return fail("midend: " + inner);

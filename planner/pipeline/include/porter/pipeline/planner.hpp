@@ -86,7 +86,9 @@ class Planner {
 
   PlanResult plan(const PlanRequest& request);
 
-  /// Builds the back-end's robot side now instead of on the first plan that needs it.
+  /// Builds the back-end's robot side now instead of on the first plan that needs it. Throws
+  /// std::invalid_argument when a term refuses its settings (plan() reports that as
+  /// kInvalidInput instead).
   void prepare_backend();
 
   /// Replaces the acceptance test (nullptr: back to the kernel trajectory check). Must outlive
