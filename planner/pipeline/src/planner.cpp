@@ -175,9 +175,9 @@ PlanResult Planner::plan(const PlanRequest& req) {
   if (mid.acceptance.accepted) return finish(planner::Status::kSuccess, "");
   const std::string rejected = "mid-end trajectory rejected by the acceptance test (" + acceptance_->name() + ", link " +
                                std::to_string(mid.acceptance.link) + ")";
+  if (req.cancel && req.cancel->requested()) return finish(planner::Status::kCanceled, "canceled");
   if (req.stages == Stages::kMid) return finish(planner::Status::kInCollision, rejected);
   if (!mid.result.solution) return finish(planner::Status::kInCollision, rejected + "; no mid-end solution for the back-end");
-  if (req.cancel && req.cancel->requested()) return finish(planner::Status::kCanceled, "canceled");
 
   // 4. Back-end.
   const auto t_setup = Clock::now();
