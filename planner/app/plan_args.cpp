@@ -21,34 +21,37 @@ const char* to_string(CollisionArg c) { return c == CollisionArg::kKernels ? "ke
 
 std::string plan_usage() {
   return "usage: porter-plan --scene FILE [--seed N] [--set NAME=VALUE]... [--payload FILE]\n"
-         "                   [--robot FILE] [--stages front|mid|full] [--frontend-budget-ms MS]\n"
-         "                   [--midend-budget-ms MS] [--backend-budget-ms MS] [--backend-iterations N]\n"
-         "                   [--safety kc_svsdf|svsdf_per_link] [--collision kernels|spheres]\n"
-         "                   [--self-collision-term on|off] [--out FILE] [--quiet]\n"
+         "                   [--robot FILE] [--planner-config DIR] [--stages front|mid|full]\n"
+         "                   [--frontend-budget-ms MS] [--midend-budget-ms MS] [--backend-budget-ms MS]\n"
+         "                   [--backend-iterations N] [--safety kc_svsdf|svsdf_per_link]\n"
+         "                   [--collision kernels|spheres] [--self-collision-term on|off] [--out FILE] [--quiet]\n"
          "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
          "  --seed N                seed of the scene's random obstacles and of the planner\n"
          "                          (default: the scene file's seed)\n"
          "  --set NAME=VALUE        override a scene parameter (e.g. --set h_b=0.9); repeatable\n"
          "  --payload FILE          payload YAML replacing the scene's\n"
-         "  --robot FILE            robot.yaml (default: the shipped Scout Mini + Piper)\n"
+         "  --robot FILE            robot.yaml (default: robots/scout_mini_piper/robot.yaml of the\n"
+         "                          config directory: ./config, else found from the executable)\n"
+         "  --planner-config DIR    planner settings (default: planner/ of the config directory)\n"
          "  --stages S              front (path search only), mid (+ MINCO mid-end), full (+ back-end)\n"
-         "  --frontend-budget-ms MS front-end time budget (default 1000)\n"
-         "  --midend-budget-ms MS   mid-end optimization budget (default 100)\n"
-         "  --backend-budget-ms MS  back-end optimization budget (default 300)\n"
-         "  --backend-iterations N  back-end L-BFGS iteration cap (default 200); with a large\n"
+         "  The flags below override the planner settings (defaults in config/planner/*.yaml):\n"
+         "  --frontend-budget-ms MS front-end time budget (shipped: 1000)\n"
+         "  --midend-budget-ms MS   mid-end optimization budget (shipped: 100)\n"
+         "  --backend-budget-ms MS  back-end optimization budget (shipped: 300)\n"
+         "  --backend-iterations N  back-end L-BFGS iteration cap (shipped: 200); with a large\n"
          "                          budget the run no longer depends on the machine's speed\n"
-         "  --safety S              back-end safety term: kc_svsdf (KC-SVSDF, default) or\n"
+         "  --safety S              back-end safety term: kc_svsdf (KC-SVSDF, shipped) or\n"
          "                          svsdf_per_link (each link's SVSDF alone, the ablation baseline)\n"
-         "  --collision C           kernels (default) or spheres (sphere-ESDF baseline in the\n"
+         "  --collision C           kernels (shipped) or spheres (sphere-ESDF baseline in the\n"
          "                          front-end and as the back-end term; not with --safety); the\n"
          "                          final re-check is by kernels either way\n"
          "  --self-collision-term on|off  the back-end's self-collision penalty next to the safety\n"
-         "                          term (default on; not part of the paper, off for comparison)\n"
+         "                          term (shipped: on; not part of the paper, off for comparison)\n"
          "  --out FILE              write the JSON result there\n"
          "  --quiet                 print nothing on success\n"
          "exit codes: 0 success, 1 planning failed (incl. a final trajectory in collision), 2 bad\n"
          "            arguments, 3 unreadable/invalid file or unwritable output, 4 invalid start\n"
-         "            or goal, 5 a requested component is unavailable (cannot be built)\n";
+         "            or goal\n";
 }
 
 namespace {
@@ -73,9 +76,8 @@ std::uint64_t parse_seed(const std::string& text) {
 
 }  // namespace
 
-PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& default_robot) {
+PlanArgs parse_plan_args(int argc, const char* const* argv) {
   PlanArgs a;
-  a.robot_path = default_robot;
   for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
     auto value = [&]() -> std::string {
@@ -98,19 +100,19 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
       a.payload_path = value();
     } else if (flag == "--robot") {
       a.robot_path = value();
+    } else if (flag == "--planner-config") {
+      a.planner_config_dir = value();
     } else if (flag == "--stages") {
       const std::string s = value();
       if (s == "front") a.stages = Stages::kFront;
       else if (s == "mid") a.stages = Stages::kMid;
       else if (s == "full") a.stages = Stages::kFull;
       else throw ArgsError("--stages: expected front, mid or full, got '" + s + "'");
-    } else if (flag == "--frontend-budget-ms") {
-      a.frontend_budget_ms = parse_number(flag, value());
-      if (!(a.frontend_budget_ms > 0.0)) throw ArgsError("--frontend-budget-ms must be > 0");
-    } else if (flag == "--midend-budget-ms" || flag == "--backend-budget-ms") {
+    } else if (flag == "--frontend-budget-ms" || flag == "--midend-budget-ms" || flag == "--backend-budget-ms") {
       const double ms = parse_number(flag, value());
       if (!(ms > 0.0)) throw ArgsError(flag + " must be > 0");
-      (flag == "--midend-budget-ms" ? a.midend_budget_ms : a.backend_budget_ms) = ms;
+      (flag == "--frontend-budget-ms" ? a.frontend_budget_ms
+                                      : flag == "--midend-budget-ms" ? a.midend_budget_ms : a.backend_budget_ms) = ms;
     } else if (flag == "--backend-iterations") {
       const std::string v = value();
       if (v.empty() || v.size() > 9 || v.find_first_not_of("0123456789") != std::string::npos || std::stoi(v) < 1)
@@ -121,7 +123,6 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
       if (s == "kc_svsdf") a.safety = SafetyArg::kKcSvsdf;
       else if (s == "svsdf_per_link") a.safety = SafetyArg::kSvsdfPerLink;
       else throw ArgsError("--safety: expected kc_svsdf or svsdf_per_link, got '" + s + "'");
-      a.safety_given = true;
     } else if (flag == "--collision") {
       const std::string c = value();
       if (c == "kernels") a.collision = CollisionArg::kKernels;
@@ -141,7 +142,7 @@ PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& d
     }
   }
   if (!a.help && a.scene_path.empty()) throw ArgsError("--scene is required");
-  if (a.safety_given && a.collision == CollisionArg::kSpheres)
+  if (a.safety && a.collision == CollisionArg::kSpheres)
     throw ArgsError("--safety does not apply with --collision spheres (the back-end uses the sphere term)");
   return a;
 }

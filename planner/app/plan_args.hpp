@@ -24,30 +24,32 @@ const char* to_string(SafetyArg s);
 enum class CollisionArg { kKernels, kSpheres };
 const char* to_string(CollisionArg c);
 
+/// Each optional field overrides the planner settings (config/planner/*.yaml) when given.
 struct PlanArgs {
   std::string scene_path;
   std::uint64_t seed = 0;
   bool seed_given = false;                  ///< false: the scene file's seed is used
   std::map<std::string, double> overrides;  ///< --set NAME=VALUE
   std::optional<std::string> payload_path;  ///< replaces the scene's payload
-  std::string robot_path;                   ///< robot.yaml
+  std::optional<std::string> robot_path;    ///< robot.yaml (default: found with the config directory)
+  /// Directory of the planner settings files (default: <config>/planner).
+  std::optional<std::string> planner_config_dir;
   Stages stages = Stages::kFront;
-  double frontend_budget_ms = 1000.0;
-  double midend_budget_ms = 100.0;
-  double backend_budget_ms = 300.0;
-  int backend_max_iterations = 200;         ///< L-BFGS cap (with a large budget: reproducible runs)
-  SafetyArg safety = SafetyArg::kKcSvsdf;
-  bool safety_given = false;                ///< --safety was on the command line
-  CollisionArg collision = CollisionArg::kKernels;
+  std::optional<double> frontend_budget_ms;
+  std::optional<double> midend_budget_ms;
+  std::optional<double> backend_budget_ms;
+  std::optional<int> backend_max_iterations;  ///< L-BFGS cap (with a large budget: reproducible runs)
+  std::optional<SafetyArg> safety;
+  std::optional<CollisionArg> collision;
   /// The back-end's self-collision penalty (backend/self_collision_term.hpp), --self-collision-term.
-  bool self_collision_term = true;
+  std::optional<bool> self_collision_term;
   std::optional<std::string> out_path;
   bool quiet = false;
   bool help = false;
 };
 
-/// Parses argv[1..argc-1]. `default_robot` is used when --robot is absent.
-PlanArgs parse_plan_args(int argc, const char* const* argv, const std::string& default_robot);
+/// Parses argv[1..argc-1].
+PlanArgs parse_plan_args(int argc, const char* const* argv);
 
 /// The usage text.
 std::string plan_usage();

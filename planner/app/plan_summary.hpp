@@ -3,14 +3,13 @@
 
 #include <string>
 
-#include "backend_stage.hpp"
 #include "porter/frontend/frontend.hpp"
-#include "porter/midend/midend_result.hpp"
+#include "porter/pipeline/plan_result.hpp"
 
 namespace porter::app {
 
 std::string frontend_summary(const frontend::FrontendResult& r);
-std::string midend_summary(const midend::MidendResult& r);
-std::string backend_summary(const BackendRun& run);
+std::string midend_summary(const pipeline::MidendReport& m);
+std::string backend_summary(const pipeline::BackendReport& run);
 
 }  // namespace porter::app

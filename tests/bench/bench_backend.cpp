@@ -1,46 +1,29 @@
-// porter-bench-backend: the back-end's measurements (issue 6). Not a test: prints tables.
+// porter-bench-backend: the back-end's measurements. Not a test: prints tables, asserts nothing.
 //
 //   porter-bench-backend queries            SVSDF / KC-SVSDF time per query point, share in t* search
-//   porter-bench-backend scenes [seeds]     back-end solve time on bridge, tunnel, forest
-//   porter-bench-backend ablation [seeds]   the paper's Table I: bridge h_b = 1.1 .. 0.8, front-end
-//                                           80 ms, optimization (mid-end + back-end) 300 ms,
-//                                           kc_svsdf vs svsdf_per_link on the same warm starts
+//   porter-bench-backend scenes [seeds]     the planning pipeline (porter::pipeline::Planner, shipped
+//                                           settings, front-end 2 s) on bridge, tunnel, forest:
+//                                           back-end solve times where the mid-end's trajectory was
+//                                           rejected
+//   porter-bench-backend ablation [seeds]   the paper's Table I through the same pipeline as
+//                                           porter-plan and scripts/bench-ablation: bridge h_b =
+//                                           1.1 .. 0.8, front-end 80 ms, mid-end 100 ms, back-end
+//                                           300 ms, kc_svsdf vs svsdf_per_link
 //   porter-bench-backend probe [h_b seed fe_budget]  cost along -grad at the warm start, frozen
 //                                           ball-search decisions vs Algorithm 1 at every evaluation,
 //                                           then 0.3 s and 3 s solves both ways (environment:
-//                                           PORTER_PROBE_SLOPES=1 adds slope vs FD along -grad,
-//                                           PORTER_PROBE_REFRESH=k sets refresh_every_iterations)
-//   porter-bench-backend synthetic [seeds]  the same comparison on fixed colliding warm starts
+//                                           PORTER_PROBE_SLOPES=1 adds slope vs FD along -grad)
+//   porter-bench-backend synthetic [seeds]  the back-end alone on fixed colliding warm starts
 //                                           (straight pass through the hole, perturbed), which
-//                                           isolates the back-end from the front-end
-// Frozen fixtures: the scenes in config/, the seeds 0..N-1, the payloads of the scenes. The
-// kernel checker runs with its default settings (self-collision included).
-//
+//                                           isolates it from the front-end
 //   porter-bench-backend profile N SCENE H_B FE_BUDGET_S FIRST_SEED REPS
 //                                           per seed: obstacle points, one J_s evaluation (averaged
-//                                           over REPS) with its work counters, then a 300 ms solve
-//
-// Recorded on HEAD 5e7716a + the issue-6 back-end speed-up (Release, 2-core VM shared with other builds,
-// load average ~4: wall times are ~2x noisy). s_j from the kernel inflation (recheck_margins.hpp).
-//   $ porter-bench-backend queries     (all 30640 map points, most far from the robot)
-//   kc_svsdf        KC-SVSDF all 8 links: outside 30634 pts 71.4 us/pt (t* search 99.2%) | inside 6 pts 73.4 us/pt (t* search 96.4%)
-//   SVSDF g_j alone: base full search 9.2 us/pt, payload windowed search 10.3 us/pt
-//   svsdf_per_link  KC-SVSDF all 8 links: outside 30634 pts 68.7 us/pt (t* search 98.8%) | inside 6 pts 78.6 us/pt (t* search 94.1%)
-//   J_s evaluation (cost + gradient): 5.70 ms wall, 666 of 30640 points past the AABB prefilter
-//   $ porter-bench-backend profile 4 bridge 1.1 0.08 1 1     (J_s evaluation; was 37-43 ms)
-//   seed 1: 616 candidates, eval 7.1 ms | back-end 62 ms, 2 iterations, re-check passed
-//   seed 2: 618 candidates, eval 7.8 ms | back-end 211 ms, 12 iterations, re-check passed
-//   seed 4: 738 candidates, eval 9.4 ms | back-end 112 ms, 6 iterations, re-check passed
-//   $ porter-bench-backend profile 2 tunnel -1 1.0 1 1       (was 219-314 ms per evaluation)
-//   seed 1 (T 38.8 s): eval 53.7 ms | seed 2 (T 97.9 s): eval 73.7 ms; 300 ms solves: 0-1 iterations
-//   $ porter-bench-backend profile 2 forest -1 1.0 1 1
-//   seed 2 (T 123.8 s): eval 96.8 ms; 300 ms solve: 0 iterations (first line search)
-// The ablation is recorded with scripts/bench-ablation (porter-plan end to end), see README.
-//
-// Issue 6 J_s speed-up (lean t* scan, SDF prefilter level, per-interval motion bounds), on afaa8df:
-//   $ porter-bench-backend profile 1 bridge 1.1 0.08 12 40   (same J_s to 10 digits)
-//   alternated: eval 3.71 ms, reference (lean_scan off, sdf_prefilter off) 5.45 ms; 507 vs 825 link queries
-//   (afaa8df itself: eval 7.2 ms, 825 candidates; in porter-plan 6.6 ms -> 2.9 ms per evaluation)
+//                                           over REPS) with its work counters, the same evaluation
+//                                           with the fast paths' slow references, then a 300 ms solve
+// Frozen fixtures: the scenes in config/, the seeds, the payloads of the scenes; the planner
+// settings of config/planner/ (the kernel resolution follows the scene). Warm starts come from
+// the pipeline (Planner::plan with Stages::kMid: the mid-end's solution, retry included).
+// Figures are recorded with the command that made them in the README and the commit messages.
 
 #include <algorithm>
 #include <chrono>
@@ -52,6 +35,8 @@
 #include <vector>
 
 #include "backend_fixtures.hpp"
+#include "porter/pipeline/planner.hpp"
+#include "porter/pipeline/settings_yaml.hpp"
 #include "porter/backend/backend.hpp"
 #include "porter/backend/backend_problem.hpp"
 #include "porter/backend/kc_svsdf.hpp"
@@ -83,10 +68,11 @@ struct Setup {
   std::unique_ptr<planner::KernelCollisionChecker> checker;
 };
 
-std::unique_ptr<Setup> load(const std::string& scene_name, double h_b) {
+std::unique_ptr<Setup> load(const std::string& scene_name, double h_b, std::uint64_t seed = 0) {
   auto s = std::make_unique<Setup>();
   SceneLoadOptions options;
   if (h_b > 0.0) options.parameter_overrides["h_b"] = h_b;
+  if (seed > 0) options.seed = seed;
   s->scene = load_scene(backend::testing::source_dir() + "/config/scenes/" + scene_name + ".yaml", options);
   s->grid = voxelize(s->scene);
   s->model = attach_payload(load_robot_model(backend::testing::source_dir() + "/config/robots/scout_mini_piper/robot.yaml"),
@@ -95,6 +81,27 @@ std::unique_ptr<Setup> load(const std::string& scene_name, double h_b) {
   s->checker = std::make_unique<planner::KernelCollisionChecker>(s->model);
   s->checker->set_map(s->grid);
   return s;
+}
+
+/// The shipped planner settings at the scene's resolution, with the given budgets (s) and model.
+pipeline::PlannerSettings planner_settings(const Setup& s, double fe_s, double mid_s, double be_s,
+                                           baselines::SafetyModel safety = baselines::SafetyModel::kKcSvsdf) {
+  pipeline::PlannerSettings ps = pipeline::load_planner_settings(backend::testing::source_dir() + "/config/planner");
+  ps.kernels.kernels.resolution_m = s.scene.resolution_m;
+  ps.pipeline.frontend_budget_s = fe_s;
+  ps.pipeline.midend_budget_s = mid_s;
+  ps.pipeline.backend_budget_s = be_s;
+  ps.pipeline.safety = safety;
+  return ps;
+}
+
+pipeline::PlanRequest request(const Setup& s, std::uint64_t seed, pipeline::Stages stages) {
+  pipeline::PlanRequest r;
+  r.start = pipeline::StartState::at_rest(s.scene.start);
+  r.goal = pipeline::GoalSpec::exact(s.scene.goal);
+  r.seed = seed;
+  r.stages = stages;
+  return r;
 }
 
 // --- queries --------------------------------------------------------------------------------
@@ -170,85 +177,74 @@ void bench_queries() {
 
 // --- pipeline ---------------------------------------------------------------------------------
 
-struct Outcome {
-  bool frontend_ok = false;
-  bool direct = false;
-  bool success = false;
-  double frontend_s = 0, midend_s = 0, backend_s = 0;
-  std::string note;
-};
-
+/// A warm start for the back-end: the pipeline run to the mid-end (retry included).
 struct WarmStart {
   bool ok = false;
-  planner::WholeBodyPath path;
+  std::optional<midend::MidendSolution> solution;
   std::optional<Trajectory> trajectory;
   bool collision_free = false;
   double frontend_s = 0, midend_s = 0;
   std::string note;
 };
 
-WarmStart warm_start(Setup& s, frontend::FrontEnd& fe, std::uint64_t seed, double fe_budget, double opt_budget) {
+WarmStart warm_start(pipeline::Planner& planner, const Setup& s, std::uint64_t seed) {
   WarmStart w;
-  const frontend::FrontendResult f = fe.plan(s.scene.start, s.scene.goal, fe_budget, seed);
-  w.frontend_s = f.elapsed_s;
-  if (f.status != frontend::PlannerStatus::kSuccess) {
-    w.note = "front-end: " + f.message;
+  const pipeline::PlanResult r = planner.plan(request(s, seed, pipeline::Stages::kMid));
+  if (r.frontend) w.frontend_s = r.frontend->elapsed_s;
+  if (!r.midend || !r.midend->result.trajectory || !r.midend->result.solution) {
+    w.note = std::string(planner::to_string(r.status)) + ": " + r.message;
     return w;
   }
-  w.path = f.path;
-  const midend::MidEnd mid(s.model);
-  const midend::MidendResult m = mid.solve(f.path, opt_budget);
-  w.midend_s = m.elapsed_s;
-  if (!m.ok()) {
-    w.note = "mid-end: " + m.message;
-    return w;
-  }
+  w.midend_s = r.midend->time_s;
   w.ok = true;
-  w.trajectory = m.trajectory;
-  w.collision_free = !s.checker->check_trajectory(*m.trajectory).in_collision;
+  w.solution = r.midend->result.solution;
+  w.trajectory = r.midend->result.trajectory;
+  w.collision_free = r.midend->acceptance.accepted;
   return w;
 }
 
-/// The safety term settings porter-plan uses: s_j from the kernel checker's inflation bounds.
+/// The safety term settings the pipeline uses: s_j from the kernel checker's inflation bounds.
 baselines::SafetyTermSettings term_settings(const Setup& s) {
   baselines::SafetyTermSettings ts;
   std::array<double, kNumLinks> inflation{};
-  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = s.checker->kernels().inflation_bound_m(j);
+  for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = s.checker->inflation_bound_m(j);
   backend::apply_recheck_margins(backend::recheck_margins(inflation, s.grid.resolution_m(), *s.sdf), ts.svsdf);
   return ts;
 }
 
 backend::BackendResult run_backend(Setup& s, const WarmStart& w, baselines::SafetyModel model, double budget) {
   auto term = baselines::make_safety_term(model, s.model, s.sdf.get(), term_settings(s));
-  backend::BackendSettings bs;
-  const backend::BackEnd be(s.model, bs);
-  return be.solve(w.path, *w.trajectory, s.grid, *term, budget, s.checker.get());
+  const backend::BackEnd be(s.model, backend::BackendSettings{});
+  const pipeline::KernelAcceptance acceptance(*s.checker);
+  return be.solve(*w.solution, s.grid, *term, planner::Deadline(budget), &acceptance);
 }
 
 void bench_scenes(int seeds) {
   for (const std::string name : {"bridge", "tunnel", "forest"}) {
     auto s = load(name, -1.0);
-    frontend::FrontEnd fe(s->model, *s->checker);
-    fe.set_map(s->grid);
+    pipeline::Planner planner(s->model, planner_settings(*s, 2.0, 0.3, 0.3));
+    planner.set_map(s->grid);
+    planner.prepare_backend();
     std::vector<double> times;
-    int paths = 0, direct = 0, ok = 0, iters = 0;
+    int paths = 0, direct = 0, ok = 0, iters = 0, ran = 0;
     for (int seed = 0; seed < seeds; ++seed) {
-      const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), 2.0, 0.3);
-      if (!w.ok) continue;
+      const pipeline::PlanResult r = planner.plan(request(*s, static_cast<std::uint64_t>(seed), pipeline::Stages::kFull));
+      if (!r.midend || !r.midend->result.trajectory) continue;
       ++paths;
-      direct += w.collision_free;
-      const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
-      times.push_back(r.elapsed_s);
-      ok += r.success() || w.collision_free;
-      iters += r.iterations;
+      direct += r.midend->acceptance.accepted;
+      ok += r.success();
+      if (!r.backend) continue;
+      ++ran;
+      times.push_back(r.backend->result.elapsed_s);
+      iters += r.backend->result.iterations;
     }
     std::sort(times.begin(), times.end());
     const double median = times.empty() ? 0.0 : times[times.size() / 2];
     double mean = 0.0;
     for (double t : times) mean += t;
-    std::printf("%-7s front-end paths %2d/%d (mid-end collision-free %d) | back-end (kc_svsdf, 300 ms budget): median %.0f ms, mean %.0f ms, mean iterations %.1f, collision-free after back-end or direct %d/%d\n",
-                name.c_str(), paths, seeds, direct, 1e3 * median, times.empty() ? 0.0 : 1e3 * mean / times.size(),
-                paths ? double(iters) / paths : 0.0, ok, paths);
+    std::printf("%-7s mid-end trajectories %2d/%d (accepted directly %d) | back-end (kc_svsdf, 300 ms budget) ran %d: median %.0f ms, mean %.0f ms, mean iterations %.1f | accepted in the end %d/%d\n",
+                name.c_str(), paths, seeds, direct, ran, 1e3 * median, times.empty() ? 0.0 : 1e3 * mean / times.size(),
+                ran ? double(iters) / ran : 0.0, ok, paths);
   }
 }
 
@@ -256,22 +252,20 @@ void bench_ablation(int seeds) {
   std::printf("h_b   | front-end ok | direct | kc_svsdf success | svsdf_per_link success\n");
   for (double h_b : {1.1, 1.0, 0.9, 0.8}) {
     auto s = load("bridge", h_b);
-    frontend::FrontEnd fe(s->model, *s->checker);
-    fe.set_map(s->grid);
     int fe_ok = 0, direct = 0, kc = 0, pl = 0;
-    for (int seed = 0; seed < seeds; ++seed) {
-      const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), 0.08, 0.3);
-      if (!w.ok) continue;
-      ++fe_ok;
-      if (w.collision_free) {
-        ++direct;
-        ++kc;
-        ++pl;
-        continue;
+    for (const baselines::SafetyModel model : {baselines::SafetyModel::kKcSvsdf, baselines::SafetyModel::kSvsdfPerLink}) {
+      pipeline::Planner planner(s->model, planner_settings(*s, 0.08, 0.1, 0.3, model));
+      planner.set_map(s->grid);
+      planner.prepare_backend();
+      const bool ours = model == baselines::SafetyModel::kKcSvsdf;
+      for (int seed = 1; seed <= seeds; ++seed) {
+        const pipeline::PlanResult r = planner.plan(request(*s, static_cast<std::uint64_t>(seed), pipeline::Stages::kFull));
+        if (ours) {
+          fe_ok += r.frontend && r.frontend->status == planner::Status::kSuccess;
+          direct += r.midend && r.midend->acceptance.accepted;
+        }
+        (ours ? kc : pl) += r.success();
       }
-      const double left = std::max(0.0, 0.3 - w.midend_s);  // one 300 ms optimization budget
-      kc += left > 0.0 && run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, left).success();
-      pl += left > 0.0 && run_backend(*s, w, baselines::SafetyModel::kSvsdfPerLink, left).success();
     }
     std::printf("%.1f m | %2d/%d        | %2d     | %2d/%d (%3.0f%%)      | %2d/%d (%3.0f%%)\n", h_b, fe_ok, seeds, direct, kc,
                 seeds, 100.0 * kc / seeds, pl, seeds, 100.0 * pl / seeds);
@@ -295,12 +289,12 @@ void bench_synthetic(int seeds) {
       midend::testing::PathBuilder builder({-2.5, y, 0.0}, q, 0.4, 0.4);
       builder.straight(5.0, 1);
       WarmStart w;
-      w.path = builder.build();
       const midend::MidEnd mid(s->model);
-      const midend::MidendResult m = mid.solve(w.path, 1.0);
-      if (!m.ok()) continue;
+      const midend::MidendResult m = mid.solve(builder.build(), 1.0);
+      if (!m.ok() || !m.solution) continue;
       w.ok = true;
       w.trajectory = m.trajectory;
+      w.solution = m.solution;
       if (!s->checker->check_trajectory(*m.trajectory).in_collision) continue;
       ++colliding;
       const backend::BackendResult a = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
@@ -322,10 +316,10 @@ void bench_synthetic(int seeds) {
 
 void bench_profile(const std::string& name, double h_b, int first_seed, int seeds, double fe_budget, int reps) {
   auto s = load(name, h_b);
-  frontend::FrontEnd fe(s->model, *s->checker);
-  fe.set_map(s->grid);
+  pipeline::Planner planner(s->model, planner_settings(*s, fe_budget, 0.3, 0.3));
+  planner.set_map(s->grid);
   for (int seed = first_seed; seed < first_seed + seeds; ++seed) {
-    const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), fe_budget, 0.3);
+    const WarmStart w = warm_start(planner, *s, static_cast<std::uint64_t>(seed));
     if (!w.ok) {
       std::printf("seed %d: %s\n", seed, w.note.c_str());
       continue;
@@ -380,7 +374,7 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
     if (w.collision_free) continue;
     const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
     std::printf("   back-end: %s %.0f ms, iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
-                backend::to_string(r.status), 1e3 * r.elapsed_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
+                planner::to_string(r.status), 1e3 * r.elapsed_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
                 r.rechecks, 1e3 * r.recheck_s, r.rounds, r.initial_cost.safety, r.final_cost.safety,
                 backend::to_string(r.check), r.collision_link, r.message.c_str());
     std::fflush(stdout);
@@ -388,13 +382,13 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
 }
 
 
-/// The back-end cost along -grad at the warm start (issue 6): f(x0 - a g/|g|) - f(x0) against the
+/// The back-end cost along -grad at the warm start: f(x0 - a g/|g|) - f(x0) against the
 /// first-order prediction -a |g| (a: step in the decision vector's norm), with the ball-search decisions frozen at x0 and without.
 void bench_probe(double h_b, int seed, double fe_budget) {
   auto s = load("bridge", h_b);
-  frontend::FrontEnd fe(s->model, *s->checker);
-  fe.set_map(s->grid);
-  const WarmStart w = warm_start(*s, fe, static_cast<std::uint64_t>(seed), fe_budget, 0.3);
+  pipeline::Planner planner(s->model, planner_settings(*s, fe_budget, 0.3, 0.3));
+  planner.set_map(s->grid);
+  const WarmStart w = warm_start(planner, *s, static_cast<std::uint64_t>(seed));
   if (!w.ok) {
     std::printf("seed %d: %s\n", seed, w.note.c_str());
     return;
@@ -406,13 +400,9 @@ void bench_probe(double h_b, int seed, double fe_budget) {
     ts.svsdf.freeze_ball_decisions = freeze;
     backend::SvsdfSafetyTerm term(s->model, *s->sdf, ts.svsdf);
     term.prepare(s->grid, *w.trajectory);
-    backend::BackendSettings bs;
     const midend::MidendLimits limits = midend::MidendLimits::from_robot(s->model);
-    midend::ReferenceBuild ref = midend::build_reference_path(w.path, limits, bs.problem);
-    if (ref.outcome != midend::ReferenceOutcome::kOk) return;
-    backend::BackendProblem problem(std::move(ref.path), limits, bs.problem, term);
-    Eigen::VectorXd x0;
-    if (!problem.decision_from_trajectory(*w.trajectory, x0)) return;
+    backend::BackendProblem problem(w.solution->reference, limits, w.solution->settings, term);
+    const Eigen::VectorXd x0 = w.solution->x;
     const int n = problem.num_variables();
     Eigen::VectorXd g(n), x(n);
     backend::BackendCost c0;
@@ -443,19 +433,16 @@ void bench_probe(double h_b, int seed, double fe_budget) {
       }
     }
   }
-  const char* env = std::getenv("PORTER_PROBE_REFRESH");
-  const int refresh = env ? std::atoi(env) : 0;
   for (double budget : {0.3, 3.0}) {
     for (bool freeze : {false, true}) {
       baselines::SafetyTermSettings ts = term_settings(*s);
       ts.svsdf.freeze_ball_decisions = freeze;
       auto term = baselines::make_safety_term(baselines::SafetyModel::kKcSvsdf, s->model, s->sdf.get(), ts);
-      backend::BackendSettings bs;
-      bs.refresh_every_iterations = refresh;
-      const backend::BackEnd be(s->model, bs);
-      const backend::BackendResult r = be.solve(w.path, *w.trajectory, s->grid, *term, budget, s->checker.get());
+      const backend::BackEnd be(s->model, backend::BackendSettings{});
+      const pipeline::KernelAcceptance acceptance(*s->checker);
+      const backend::BackendResult r = be.solve(*w.solution, s->grid, *term, planner::Deadline(budget), &acceptance);
       std::printf("  budget %.1f s, %s: %s %.0f ms, %d it, %d evals, rounds %d, J_s %.3g -> %.3g, check %s | %s\n", budget,
-                  freeze ? "frozen" : "not frozen", backend::to_string(r.status), 1e3 * r.elapsed_s, r.iterations,
+                  freeze ? "frozen" : "not frozen", planner::to_string(r.status), 1e3 * r.elapsed_s, r.iterations,
                   r.evaluations, r.rounds,
                   r.initial_cost.safety, r.final_cost.safety, backend::to_string(r.check), r.message.c_str());
     }

@@ -13,37 +13,16 @@
 //   BM_CostGradNoPenalty/N the mid-end cost + gradient with energy and time only (per piece)
 //   BM_CostGradFull/N      the mid-end cost + gradient with every penalty (kappa = 16)
 //   BM_SolveForest/budget  full mid-end solve of the forest path with that budget (ms; 0 = 10 s)
-//   BM_SolveScene/scene/seed full mid-end solve (default budget) of the real front-end path of
-//                          config/scenes/{bridge,tunnel,forest}.yaml (scene 0, 1, 2) for that seed
-//                          (front-end run once at start-up with a 5 s budget, so that it stops on
-//                          its iteration count and the path does not depend on machine load;
-//                          skipped when it fails). The counter "valid" is 1 when the trajectory
-//                          passes every issue-5 check (trajectory_checks.hpp, 1 ms sampling).
-//   BM_SolveForestConverged same, with the pre-issue-5 stop test (relative decrease 1e-4), for
-//                          the duration the optimizer reaches when it is given time
+//   BM_SolveScene/scene/seed full mid-end solve (the planner's 100 ms budget) of the real
+//                          front-end path of config/scenes/{bridge,tunnel,forest}.yaml (scene 0, 1,
+//                          2) for that seed (front-end run once at start-up with a 5 s budget, so
+//                          that it stops on its iteration count and the path does not depend on
+//                          machine load; skipped when it fails). The counter "valid" is 1 when the
+//                          trajectory passes every check of trajectory_checks.hpp (1 ms sampling).
+//   BM_SolveForestConverged same, with a tighter stop test (relative decrease 1e-4), for the
+//                          duration the optimizer reaches when it is given time
 //
-// Recorded (this machine, 2 shared cores under load, CPU column):
-//   issue-5 first pass: BM_SolveForest/0 ~25-30 ms CPU, 228 evaluations, T 22.0 s, converged
-//   piece grouping (61fb670), 1 s front-end budget: BM_SolveScene forest seeds 1,3,4,5
-//           CPU 23.8 / 69.4 / 67.2 / 69.7 ms
-//   still ends + result check (midend2), 5 s front-end budget, load ~2.6:
-//           BM_CostGradNoPenalty ~0.40-0.42 us/piece, BM_CostGradFull ~1.6-1.9 us/piece
-//           BM_SolveForest/0 9.4 ms CPU, 125 evaluations, T 22.8 s, converged
-//           BM_SolveScene forest seeds 1..5 CPU 25.0 (rejected: constraint violation) / 20.1 /
-//           55.6 / 90.1 (budget hit, invalid) / 46.7 ms. The 30 ms median target on forest is
-//           NOT met (forest median over seeds 1-20 with porter-midend-check --resolve: ~60 ms CPU).
-//   screened sampler + residual margin (midend3), load 3.5-4.8, CPU column, medians of 3:
-//           BM_MincoCore 0.37-0.38 us/piece, BM_CostGradNoPenalty 0.40 us/piece,
-//           BM_CostGradFull/10,30,100 1.02 / 1.02 / 1.00 us/piece (was 1.56 / 1.55 / 1.68 in the
-//           same session before the change), BM_SolveForest/0 5.57 ms CPU (was 8.69), same 125
-//           evaluations and T 22.8163 s (the screen changes no result bit). BM_SolveScene with
-//           the current front-end (its paths changed since midend2): forest seeds 1..5 CPU 29.1 /
-//           67.1 (34 segments, rejected: constraint violation) / 68.2 (rejected) / 12.7 / 23.5 ms;
-//           tunnel 8.7 / 13.2 (invalid) / 12.2 / 27.8 / 17.7 ms; bridge 5.4 / 20.0 / 7.4 / 3.0 / 5.4 ms.
-//           Re-solving 18 saved forest paths (porter-midend-check --resolve, 10 s budget, runs
-//           interleaved old/new x3): 194-291 -> 140-220 us per evaluation; median 37-58 ms CPU
-//           depending on machine load; 18/18 pass every check (was 14/18). The 30 ms forest
-//           median is still NOT met at this load.
+// Figures are recorded in the README (Performance) with the command that made them.
 
 #include <benchmark/benchmark.h>
 
@@ -134,8 +113,8 @@ void BM_SolveForest(benchmark::State& state) {
   state.counters["pieces"] = r.num_pieces;
   state.counters["T_total_s"] = r.ok() ? r.trajectory->total_duration_s() : -1.0;
   state.counters["penalty"] = r.final_cost.penalties();
-  state.counters["converged"] = r.status == MidendStatus::kConverged ||
-                                r.status == MidendStatus::kConvergedWithWarning;
+  state.counters["converged"] = r.status == planner::Status::kConverged ||
+                                r.status == planner::Status::kConvergedWithWarning;
   state.SetLabel(to_string(r.status));
 }
 BENCHMARK(BM_SolveForest)->Arg(30)->Arg(0)->Unit(benchmark::kMillisecond)->Iterations(5);
@@ -151,7 +130,7 @@ void BM_SolveScene(benchmark::State& state) {
   const MidEnd midend(testing::shipped_robot(""));
   MidendResult r;
   for (auto _ : state) {
-    r = midend.solve(sp->path, 0.0);
+    r = midend.solve(sp->path, 0.1);  // the planner's mid-end budget
     benchmark::DoNotOptimize(r.final_cost.total());
   }
   state.counters["iterations"] = r.iterations;

@@ -27,9 +27,11 @@ class PlanCliTest : public ::testing::Test {
 
   /// Runs porter-plan with `args`; stdout goes to stdout<tag>.txt and stderr to stderr<tag>.txt
   /// in dir_. Returns the exit code (-1 when it did not exit normally).
-  int run(const std::string& args, const std::string& tag = "") const {
-    const std::string cmd = std::string(PORTER_PLAN_EXE) + " " + args + " > " +
-                            (dir_ / ("stdout" + tag + ".txt")).string() + " 2> " +
+  int run(const std::string& args, const std::string& tag = "") const { return run_in("", args, tag); }
+  /// run() with the working directory `cwd` ("": the test's own).
+  int run_in(const std::string& cwd, const std::string& args, const std::string& tag = "") const {
+    const std::string cmd = (cwd.empty() ? std::string() : "cd '" + cwd + "' && ") + std::string(PORTER_PLAN_EXE) +
+                            " " + args + " > " + (dir_ / ("stdout" + tag + ".txt")).string() + " 2> " +
                             (dir_ / ("stderr" + tag + ".txt")).string();
     const int status = std::system(cmd.c_str());
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <limits>
 
-#include "warm_start.hpp"
 
 namespace porter::backend {
 
@@ -39,20 +38,6 @@ double BackendProblem::safety_cost(const Trajectory& traj, midend::ExtraCostGrad
     }
   }
   return js;
-}
-
-bool BackendProblem::decision_from_trajectory(const Trajectory& traj, Eigen::VectorXd& x) {
-  if (!detail::warm_start_decision(midend_.reference(), midend_.num_variables(), traj, x)) return false;
-  const std::vector<TrajectoryPiece> back = midend_.pieces(x.data());
-  if (static_cast<int>(back.size()) != traj.num_pieces()) return false;
-  for (int i = 0; i < traj.num_pieces(); ++i) {
-    const TrajectoryPiece& a = back[static_cast<std::size_t>(i)];
-    const TrajectoryPiece& b = traj.piece(i);
-    if (a.eta != b.eta || std::abs(a.duration_s - b.duration_s) > 1e-6 * b.duration_s ||
-        !((a.coeffs - b.coeffs).norm() <= 1e-6 * (1.0 + b.coeffs.norm())))
-      return false;
-  }
-  return true;
 }
 
 std::optional<Trajectory> BackendProblem::trajectory(const double* x) {

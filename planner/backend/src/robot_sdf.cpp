@@ -9,7 +9,14 @@
 
 namespace porter::backend {
 
+namespace {
+std::atomic<std::int64_t> g_builds{0};
+}  // namespace
+
+std::int64_t RobotSdf::build_count() { return g_builds.load(std::memory_order_relaxed); }
+
 RobotSdf RobotSdf::build(const RobotModel& model, const SdfGridSettings& settings, int threads) {
+  g_builds.fetch_add(1, std::memory_order_relaxed);
   RobotSdf sdf;
   sdf.settings_ = settings;
   // The links are independent: the largest first (bounds volume over the fine spacing cubed, the

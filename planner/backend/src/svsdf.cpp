@@ -57,7 +57,7 @@ double SvsdfEvaluator::scan(int link, const Eigen::Vector3d& p, int k_lo, int k_
   const double err_any = std::max(err, sdf.coarse().error_bound_m());
   // The box bounds below hold the true distance; the value looked up is within err_any of it
   // (the coarse grid's bound where the fine grid does not reach). Subtracting only the fine
-  // grid's err (before issue 6's speed-up) let the scan miss samples whose coarse value was lower
+  // grid's err let the scan miss samples whose coarse value was lower
   // than the box distance - err: the scan's minimum was then not the samples' minimum
   // (fast_paths_test compares the scans on this).
   const double box_err = err_any;

@@ -1,5 +1,7 @@
 #include "porter/baselines/sphere_collision_checker.hpp"
 
+#include "porter/planner/angle.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -45,9 +47,9 @@ double SphereCollisionChecker::step_m() const {
   return settings_.motion_step_m > 0.0 ? settings_.motion_step_m : resolution_m_;
 }
 
-CollisionResult SphereCollisionChecker::check_links(const RobotConfiguration& c, int up_to_link) const {
-  if (!finite(c) || field_.empty()) return hit(0);
-  if (!map_xy_.contains(Eigen::Vector2d(c.base.x_m, c.base.y_m))) return hit(0);
+CollisionResult SphereCollisionChecker::check_links(const RobotConfiguration& c, int up_to_link, bool environment) const {
+  if (!finite(c)) return hit(0);
+  if (environment && (field_.empty() || !map_xy_.contains(Eigen::Vector2d(c.base.x_m, c.base.y_m)))) return hit(0);
   if (up_to_link > 0) {
     for (int i = 0; i < kNumArmJoints; ++i) {
       const ArmJoint& j = model_->joints[static_cast<std::size_t>(i)];
@@ -63,9 +65,11 @@ CollisionResult SphereCollisionChecker::check_links(const RobotConfiguration& c,
     w.reserve(s.centers_L.size());
     for (const Eigen::Vector3d& cl : s.centers_L) {
       const Eigen::Vector3d p = ws.R_W_L[static_cast<std::size_t>(l)] * cl + ws.t_W_L[static_cast<std::size_t>(l)];
-      if (!map_xy_.contains(p.head<2>())) return hit(l);
-      if (l >= 1 && p.z() - s.radius_m < 0.0) return hit(l);
-      if (field_.distance(p) < s.radius_m) return hit(l);
+      if (environment) {
+        if (!map_xy_.contains(p.head<2>())) return hit(l);
+        if (l >= 1 && p.z() - s.radius_m < 0.0) return hit(l);
+        if (field_.distance(p) < s.radius_m) return hit(l);
+      }
       w.push_back(p);
     }
   }
@@ -96,7 +100,7 @@ CollisionResult SphereCollisionChecker::check_base(const BasePose& base) const {
 
 CollisionResult SphereCollisionChecker::check_motion(const RobotConfiguration& from, const RobotConfiguration& to) const {
   if (!finite(from) || !finite(to)) return hit(0);
-  const double dyaw = std::remainder(to.base.yaw_rad - from.base.yaw_rad, 2.0 * M_PI);
+  const double dyaw = planner::angle_difference_rad(to.base.yaw_rad, from.base.yaw_rad);
   // A sphere centre moves at most |dxy| + reach |dyaw| + reach sum |dq| along the segment.
   const double bound = std::hypot(to.base.x_m - from.base.x_m, to.base.y_m - from.base.y_m) +
                        reach_m_ * (std::abs(dyaw) + (to.q_rad - from.q_rad).cwiseAbs().sum());
@@ -113,7 +117,21 @@ CollisionResult SphereCollisionChecker::check_motion(const RobotConfiguration& f
   return {};
 }
 
+double SphereCollisionChecker::inflation_bound_m(int /*link*/) const {
+  constexpr double kSqrt3 = 1.7320508075688772;
+  return kSqrt3 * settings_.cover.cell_m + 0.5 * kSqrt3 * resolution_m_;
+}
+
 CollisionResult SphereCollisionChecker::check_trajectory(const Trajectory& traj) const {
+  return check_samples(traj, true);
+}
+
+CollisionResult SphereCollisionChecker::check_trajectory_self(const Trajectory& traj) const {
+  if (!settings_.check_self_collision) return {};
+  return check_samples(traj, false);
+}
+
+CollisionResult SphereCollisionChecker::check_samples(const Trajectory& traj, bool environment) const {
   const double step = step_m();
   for (int i = 0; i < traj.num_pieces(); ++i) {
     const TrajectoryPiece& piece = traj.piece(i);
@@ -134,7 +152,7 @@ CollisionResult SphereCollisionChecker::check_trajectory(const Trajectory& traj)
       RobotConfiguration c;
       c.base = {z[0], z[1], traj.yaw_rad(t)};
       c.q_rad = z.tail<kNumArmJoints>();
-      const CollisionResult r = check(c);
+      const CollisionResult r = check_links(c, kEndEffectorLink, environment);
       if (r.in_collision) return r;
     }
   }

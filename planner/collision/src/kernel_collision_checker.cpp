@@ -25,13 +25,25 @@ constexpr int kArmOrder[] = {7, 6, 5, 4, 3, 2, 1};
 
 }  // namespace
 
+namespace {
+std::shared_ptr<const KernelRobot> require(std::shared_ptr<const KernelRobot> robot) {
+  if (!robot) throw std::invalid_argument("KernelCollisionChecker: no robot side");
+  return robot;
+}
+}  // namespace
+
 KernelCollisionChecker::KernelCollisionChecker(const RobotModel& model, const KernelCheckerSettings& settings)
-    : settings_(settings),
-      kernels_(model, settings.kernels),
-      kinematics_(model),
-      self_(model, settings.self),
-      map_(settings.map, kernels_.max_extent_voxels() + 2, kernels_.base_layers(), kernels_.base_reach2()),
-      motion_step_m_(settings.motion_step_m > 0.0 ? settings.motion_step_m : settings.kernels.resolution_m) {
+    : KernelCollisionChecker(std::make_shared<const KernelRobot>(model, settings), settings.map) {}
+
+KernelCollisionChecker::KernelCollisionChecker(std::shared_ptr<const KernelRobot> robot, const MapKernelSettings& map)
+    : robot_(require(std::move(robot))),
+      settings_(robot_->settings()),
+      kernels_(robot_->kernels()),
+      kinematics_(robot_->kinematics()),
+      self_(robot_->self_collision()),
+      map_(map, kernels_.max_extent_voxels() + 2, kernels_.base_layers(), kernels_.base_reach2()),
+      motion_step_m_(robot_->motion_step_m()) {
+  settings_.map = map;
   clearance_units_per_m_ = static_cast<float>(4.0 / kernels_.resolution_m());
   // d_j in voxels, squared, grown by 1e-4 voxel for float32 rounding (robot_kernels.hpp).
   for (int j = 1; j < kNumLinks; ++j) {

@@ -4,19 +4,14 @@
 #include <cmath>
 
 #include "porter/core/trajectory.hpp"
+#include "porter/planner/angle.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 
 namespace porter::planner {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
-
-double wrap_pi(double a) {
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0.0) a += 2.0 * kPi;
-  return a - kPi;
-}
+using planner::wrap_angle_rad;
 
 RobotConfiguration interpolate(const RobotConfiguration& a, const RobotConfiguration& b, double dyaw, double s) {
   RobotConfiguration c;
@@ -87,7 +82,7 @@ class BatchedChecks {
 
 int KernelCollisionChecker::motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const {
   const double dxy = std::hypot(to.base.x_m - from.base.x_m, to.base.y_m - from.base.y_m);
-  const double dyaw = wrap_pi(to.base.yaw_rad - from.base.yaw_rad);
+  const double dyaw = wrap_angle_rad(to.base.yaw_rad - from.base.yaw_rad);
   const double d = displacement_bound(kernels_.radii(), dxy, dyaw, to.q_rad - from.q_rad);
   if (!std::isfinite(d)) return -1;
   const double n = std::ceil(d / motion_step_m_);
@@ -103,7 +98,7 @@ CollisionResult KernelCollisionChecker::check_motion(const RobotConfiguration& f
     r.link = 0;
     return r;
   }
-  const double dyaw = wrap_pi(to.base.yaw_rad - from.base.yaw_rad);
+  const double dyaw = wrap_angle_rad(to.base.yaw_rad - from.base.yaw_rad);
   BatchedChecks checks(*this);
   if (!checks.add(from) || !checks.add(to)) return checks.result();
   // Interior samples i = 1..n-1 in bisection order: odd multiples of the largest power of two
@@ -149,7 +144,7 @@ CollisionResult KernelCollisionChecker::check_trajectory(const Trajectory& traje
       RobotConfiguration lo = prev, hi = next;
       int depth = 0;
       while (true) {
-        const double dyaw = std::abs(wrap_pi(hi.base.yaw_rad - lo.base.yaw_rad));
+        const double dyaw = std::abs(wrap_angle_rad(hi.base.yaw_rad - lo.base.yaw_rad));
         if (radii.reach_m * dyaw <= half_step || depth >= 20) {
           if (!checks.add(hi)) return checks.result();
           if (t_hi >= t) break;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "porter/core/robot_model.hpp"
+#include "porter/planner/angle.hpp"
 #include "porter/frontend/reeds_shepp.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
 
@@ -15,7 +16,7 @@ namespace porter::frontend::detail {
 /// Linear interpolation in (x, y) and along the shorter way in yaw.
 inline BasePose lerp_pose(const BasePose& a, const BasePose& b, double t) {
   return {a.x_m + t * (b.x_m - a.x_m), a.y_m + t * (b.y_m - a.y_m),
-          wrap_angle(a.yaw_rad + t * wrap_angle(b.yaw_rad - a.yaw_rad))};
+          planner::wrap_angle_rad(a.yaw_rad + t * planner::wrap_angle_rad(b.yaw_rad - a.yaw_rad))};
 }
 
 /// Largest horizontal distance of the base geometry (link 0's bounds) from the base origin: a
@@ -52,7 +53,7 @@ inline bool base_arc_free(const planner::CollisionChecker& checker, const BasePo
 /// chord accepted here never fails there on the base alone.
 inline bool base_chord_free(const planner::CollisionChecker& checker, const BasePose& a, const BasePose& b,
                             double reach_m, double step_m, std::int64_t* checks) {
-  const int n = base_motion_samples(std::hypot(b.x_m - a.x_m, b.y_m - a.y_m), wrap_angle(b.yaw_rad - a.yaw_rad),
+  const int n = base_motion_samples(std::hypot(b.x_m - a.x_m, b.y_m - a.y_m), planner::wrap_angle_rad(b.yaw_rad - a.yaw_rad),
                                     reach_m, step_m);
   for (int k = 1; k < n; ++k) {
     ++*checks;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <string>
 
-#include "porter/frontend/deadline.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -81,39 +81,46 @@ planner::WholeBodyPath make_path(const std::vector<WholeBodySample>& samples, co
   return path;
 }
 
-FrontendResult FrontEnd::plan(const RobotConfiguration& start, const RobotConfiguration& goal, double budget_s,
-                              std::uint64_t seed) {
-  const Deadline deadline(budget_s);
+FrontendResult FrontEnd::plan(const RobotConfiguration& start, const RobotConfiguration& goal,
+                              const planner::Deadline& budget, std::uint64_t seed) {
+  const planner::Deadline deadline = budget.from_now();
+  const double budget_s = deadline.budget_s();
   FrontendResult out;
-  auto finish = [&](PlannerStatus st, std::string msg) {
+  auto finish = [&](planner::Status st, std::string msg) {
+    if (deadline.canceled() && st != planner::Status::kSuccess) {
+      // The sub-stages saw an expired deadline; say why it expired.
+      st = planner::Status::kCanceled;
+      for (StageReport* r : {&out.hybrid_astar, &out.layered_arm, &out.whole_body_rrt})
+        if (r->ran && r->status == planner::Status::kTimeout) r->status = planner::Status::kCanceled;
+    }
     out.status = st;
     out.message = std::move(msg);
     out.elapsed_s = deadline.elapsed_s();
     return out;
   };
-  if (!have_map_) return finish(PlannerStatus::kNoPath, "FrontEnd::set_map() was not called");
-  if (std::string why = validate_endpoint(start); !why.empty()) return finish(PlannerStatus::kInvalidStart, "start " + why);
-  if (std::string why = validate_endpoint(goal); !why.empty()) return finish(PlannerStatus::kInvalidGoal, "goal " + why);
+  if (!have_map_) return finish(planner::Status::kNoMap, "FrontEnd::set_map() was not called");
+  if (std::string why = validate_endpoint(start); !why.empty()) return finish(planner::Status::kInvalidStart, "start " + why);
+  if (std::string why = validate_endpoint(goal); !why.empty()) return finish(planner::Status::kInvalidGoal, "goal " + why);
 
   const FrontendSettings& s = settings_;
   WholeBodyRrt rrt(model_, checker_, hybrid_astar_.turning_radius_m(), map_xy_W_, s.whole_body_rrt);
   auto finish_with = [&](const std::vector<WholeBodySample>& samples) {
     out.path = make_path(samples, whole_body_step_times(model_, samples, s.time_allocation));
-    return finish(PlannerStatus::kSuccess, "");
+    return finish(planner::Status::kSuccess, "");
   };
 
   // 1. Hybrid A* for the base.
-  const HybridAStarResult base = hybrid_astar_.plan(start, goal, s.hybrid_astar_budget_fraction * budget_s);
+  const HybridAStarResult base = hybrid_astar_.plan(start, goal, deadline.within(s.hybrid_astar_budget_fraction * budget_s));
   out.hybrid_astar = base.report;
-  if (base.report.status == PlannerStatus::kTimeout) {
-    const WholeBodyRrtResult wb = rrt.plan(start, goal, deadline.remaining_s(), seed ^ 0x9e3779b97f4a7c15ull);
+  if (base.report.status == planner::Status::kTimeout) {
+    const WholeBodyRrtResult wb = rrt.plan(start, goal, deadline, seed ^ 0x9e3779b97f4a7c15ull);
     out.whole_body_rrt = wb.report;
-    if (wb.report.status != PlannerStatus::kSuccess)
+    if (wb.report.status != planner::Status::kSuccess)
       return finish(wb.report.status, "Hybrid A*: " + base.report.message + "; whole-body RRT*: " + wb.report.message);
     out.used_fallback = true;
     return finish_with(wb.path);
   }
-  if (base.report.status != PlannerStatus::kSuccess) return finish(base.report.status, "Hybrid A*: " + base.report.message);
+  if (base.report.status != planner::Status::kSuccess) return finish(base.report.status, "Hybrid A*: " + base.report.message);
 
   // 2. Layers and their times.
   const std::size_t n = base.path.size();
@@ -126,14 +133,14 @@ FrontendResult FrontEnd::plan(const RobotConfiguration& start, const RobotConfig
   for (double& dt : problem.dt_s) dt = std::max(s.min_layer_time_s, s.arm_time_scale * dt);
 
   // 3. Layered arm search.
-  const LayeredArmResult arm = layered_arm_.plan(problem, s.layered_arm_budget_fraction * deadline.remaining_s(), seed);
+  const LayeredArmResult arm = layered_arm_.plan(problem, deadline.within(s.layered_arm_budget_fraction * deadline.remaining_s()), seed);
   out.layered_arm = arm.report;
   std::vector<WholeBodySample> samples;
-  if (arm.report.status == PlannerStatus::kSuccess) {
+  if (arm.report.status == planner::Status::kSuccess) {
     for (std::size_t i = 0; i < n; ++i) samples.push_back({{base.path[i].pose, arm.q[i]}, base.path[i].eta});
     return finish_with(samples);
   }
-  if (arm.report.status == PlannerStatus::kInvalidStart || arm.report.status == PlannerStatus::kInvalidGoal)
+  if (arm.report.status == planner::Status::kInvalidStart || arm.report.status == planner::Status::kInvalidGoal)
     return finish(arm.report.status, "layered arm search: " + arm.report.message);
 
   // 4. Bridge the gap between the two trees with the whole-body RRT*.
@@ -146,12 +153,12 @@ FrontendResult FrontEnd::plan(const RobotConfiguration& start, const RobotConfig
   const int b = std::min(static_cast<int>(n) - 1, b_end + s.bridge_margin_layers);
   const RobotConfiguration from{base.path[static_cast<std::size_t>(a)].pose, arm.forward_q[static_cast<std::size_t>(a)]};
   const RobotConfiguration to{base.path[static_cast<std::size_t>(b)].pose, arm.backward_q[static_cast<std::size_t>(b - b_deep)]};
-  const WholeBodyRrtResult wb = rrt.plan(from, to, deadline.remaining_s(), seed ^ 0x9e3779b97f4a7c15ull);
+  const WholeBodyRrtResult wb = rrt.plan(from, to, deadline, seed ^ 0x9e3779b97f4a7c15ull);
   out.whole_body_rrt = wb.report;
-  if (wb.report.status != PlannerStatus::kSuccess) {
-    const PlannerStatus st = wb.report.status == PlannerStatus::kTimeout || arm.report.status == PlannerStatus::kTimeout
-                                 ? PlannerStatus::kTimeout
-                                 : PlannerStatus::kNoPath;
+  if (wb.report.status != planner::Status::kSuccess) {
+    const planner::Status st = wb.report.status == planner::Status::kTimeout || arm.report.status == planner::Status::kTimeout
+                                 ? planner::Status::kTimeout
+                                 : planner::Status::kNoPath;
     return finish(st, "layered arm search: " + arm.report.message + "; whole-body RRT* bridge (layers " +
                           std::to_string(a) + ".." + std::to_string(b) + "): " + wb.report.message);
   }

@@ -1,4 +1,5 @@
 #include "porter/frontend/hybrid_astar.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,7 +14,7 @@
 #include "base_motion.hpp"
 #include "porter/planner/collision/kernel_kinematics.hpp"
 #include "porter/core/kinematics.hpp"
-#include "porter/frontend/deadline.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -122,31 +123,31 @@ std::optional<JointVector> HybridAStar::narrow_shape(const BasePose& at, StageRe
 }
 
 HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const RobotConfiguration& goal,
-                                    double budget_s) {
-  const Deadline deadline(budget_s);
+                                    const planner::Deadline& budget) {
+  const planner::Deadline deadline = budget.from_now();
   HybridAStarResult result;
   StageReport& rep = result.report;
   rep.ran = true;
-  auto finish = [&](PlannerStatus st, std::string msg) {
+  auto finish = [&](planner::Status st, std::string msg) {
     rep.status = st;
     rep.message = std::move(msg);
     rep.elapsed_s = deadline.elapsed_s();
     return result;
   };
-  if (!have_map_) return finish(PlannerStatus::kNoPath, "HybridAStar::set_map() was not called");
+  if (!have_map_) return finish(planner::Status::kNoMap, "HybridAStar::set_map() was not called");
   const HybridAStarSettings& s = settings_;
   ++rep.collision_checks;
-  if (checker_.check_base(start.base)) return finish(PlannerStatus::kInvalidStart, "start base pose in collision");
+  if (checker_.check_base(start.base)) return finish(planner::Status::kInvalidStart, "start base pose in collision");
   ++rep.collision_checks;
-  if (checker_.check_base(goal.base)) return finish(PlannerStatus::kInvalidGoal, "goal base pose in collision");
+  if (checker_.check_base(goal.base)) return finish(planner::Status::kInvalidGoal, "goal base pose in collision");
   grid_.set_goal(goal.base.x_m, goal.base.y_m);
   if (!std::isfinite(grid_.distance(start.base.x_m, start.base.y_m)))
-    return finish(PlannerStatus::kNoPath, "goal unreachable: no corridor wide enough for the base footprint");
+    return finish(planner::Status::kNoPath, "goal unreachable: no corridor wide enough for the base footprint");
 
   auto cell_of = [&](const BasePose& p) -> std::int32_t {
     const double fx = (p.x_m - origin_.x()) / s.xy_resolution_m, fy = (p.y_m - origin_.y()) / s.xy_resolution_m;
     if (!(fx >= 0.0 && fy >= 0.0 && fx < nx_ && fy < ny_)) return -1;
-    int iyaw = static_cast<int>(std::floor((wrap_angle(p.yaw_rad) + M_PI) / (2.0 * M_PI) * s.yaw_bins));
+    int iyaw = static_cast<int>(std::floor((planner::wrap_angle_rad(p.yaw_rad) + M_PI) / (2.0 * M_PI) * s.yaw_bins));
     iyaw = ((iyaw % s.yaw_bins) + s.yaw_bins) % s.yaw_bins;
     return static_cast<std::int32_t>((static_cast<std::int64_t>(iyaw) * ny_ + static_cast<int>(fy)) * nx_ +
                                      static_cast<int>(fx));
@@ -213,7 +214,7 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
     Node n0;
     n0.pose = start.base;
     n0.cell = cell_of(start.base);
-    if (n0.cell < 0) return finish(PlannerStatus::kInvalidStart, "start outside the map");
+    if (n0.cell < 0) return finish(planner::Status::kInvalidStart, "start outside the map");
     nodes.push_back(n0);
     assign(n0.cell, 0);
     open.push({s.heuristic_weight * heuristic(start.base), 0});
@@ -228,8 +229,8 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
     if (cur.closed || lookup(cur.cell) != top.node) continue;
     cur.closed = true;
     ++rep.iterations;
-    if ((rep.iterations & 15) == 0 && deadline.expired()) return finish(PlannerStatus::kTimeout, "time budget exhausted");
-    if (rep.iterations > s.max_expansions) return finish(PlannerStatus::kTimeout, "expansion cap reached");
+    if ((rep.iterations & 15) == 0 && deadline.expired()) return finish(planner::Status::kTimeout, "time budget exhausted");
+    if (rep.iterations > s.max_expansions) return finish(planner::Status::kTimeout, "expansion cap reached");
 
     const BasePose cur_pose = cur.pose;
     const double cur_g = cur.g;
@@ -278,7 +279,7 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
       }
     }
   }
-  if (found < 0) return finish(PlannerStatus::kNoPath, "search space exhausted");
+  if (found < 0) return finish(planner::Status::kNoPath, "search space exhausted");
 
   std::vector<std::int32_t> chain;
   for (std::int32_t i = found; i >= 0; i = nodes[static_cast<std::size_t>(i)].parent) chain.push_back(i);
@@ -290,7 +291,7 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
   const bool shot_moves = shot.size() > 1 &&
                           !(shot.size() == 2 && std::hypot(shot[1].pose.x_m - shot[0].pose.x_m,
                                                            shot[1].pose.y_m - shot[0].pose.y_m) < 1e-9 &&
-                            std::abs(wrap_angle(shot[1].pose.yaw_rad - shot[0].pose.yaw_rad)) < 1e-9);
+                            std::abs(planner::wrap_angle_rad(shot[1].pose.yaw_rad - shot[0].pose.yaw_rad)) < 1e-9);
   if (shot_moves) {
     result.path.back().eta = result.path.size() == 1 ? shot[1].eta : result.path.back().eta;
     for (std::size_t i = 1; i < shot.size(); ++i) result.path.push_back(shot[i]);
@@ -300,7 +301,7 @@ HybridAStarResult HybridAStar::plan(const RobotConfiguration& start, const Robot
   }
   if (result.path.size() > 1 && result.path.front().eta == 0) result.path.front().eta = result.path[1].eta;
   result.path.back().pose = goal.base;  // exact, removes the shot's rounding
-  return finish(PlannerStatus::kSuccess, "");
+  return finish(planner::Status::kSuccess, "");
 }
 
 }  // namespace porter::frontend

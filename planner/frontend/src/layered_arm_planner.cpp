@@ -7,7 +7,7 @@
 #include <utility>
 
 #include "layered_arm_search.hpp"
-#include "porter/frontend/deadline.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -41,29 +41,30 @@ LayeredArmPlanner::LayeredArmPlanner(const RobotModel& model, const planner::Col
                                      LayeredArmSettings settings)
     : model_(model), checker_(checker), settings_(settings) {}
 
-LayeredArmResult LayeredArmPlanner::plan(const ArmLayerProblem& problem, double budget_s, std::uint64_t seed) const {
-  const Deadline deadline(budget_s);
+LayeredArmResult LayeredArmPlanner::plan(const ArmLayerProblem& problem, const planner::Deadline& budget,
+                                         std::uint64_t seed) const {
+  const planner::Deadline deadline = budget.from_now();
   LayeredArmResult out;
   out.report.ran = true;
   const int n = static_cast<int>(problem.bases.size());
   if (n < 2 || problem.dt_s.size() + 1 != problem.bases.size()) {
-    out.report.status = PlannerStatus::kNoPath;
+    out.report.status = planner::Status::kNoPath;
     out.report.message = "malformed problem: need N >= 2 layers and N-1 layer times";
     return out;
   }
   for (double dt : problem.dt_s) {
     if (!(dt > 0.0) || !std::isfinite(dt)) {
-      out.report.status = PlannerStatus::kNoPath;
+      out.report.status = planner::Status::kNoPath;
       out.report.message = "malformed problem: layer times must be positive";
       return out;
     }
   }
   detail::LayeredArmSearch search(model_, checker_, settings_, problem, seed, out.report);
   out.report.status = search.run(deadline, out);
-  if (out.report.status == PlannerStatus::kInvalidStart) out.report.message = "arm start configuration in collision";
-  if (out.report.status == PlannerStatus::kInvalidGoal) out.report.message = "arm goal configuration in collision";
-  if (out.report.status == PlannerStatus::kTimeout) out.report.message = "no connection within the budget";
-  if (out.report.status == PlannerStatus::kNoPath && out.report.message.empty())
+  if (out.report.status == planner::Status::kInvalidStart) out.report.message = "arm start configuration in collision";
+  if (out.report.status == planner::Status::kInvalidGoal) out.report.message = "arm goal configuration in collision";
+  if (out.report.status == planner::Status::kTimeout) out.report.message = "no connection within the budget";
+  if (out.report.status == planner::Status::kNoPath && out.report.message.empty())
     out.report.message = "layers cannot be connected";
   out.report.elapsed_s = deadline.elapsed_s();
   return out;

@@ -18,16 +18,16 @@ LayeredArmSearch::LayeredArmSearch(const RobotModel& model, const planner::Colli
   layers_[1].resize(static_cast<std::size_t>(n_));
 }
 
-PlannerStatus LayeredArmSearch::run(const Deadline& deadline, LayeredArmResult& out) {
-  if (!node_free(0, p_.q_start)) return PlannerStatus::kInvalidStart;
-  if (!node_free(n_ - 1, p_.q_goal)) return PlannerStatus::kInvalidGoal;
+planner::Status LayeredArmSearch::run(const planner::Deadline& deadline, LayeredArmResult& out) {
+  if (!node_free(0, p_.q_start)) return planner::Status::kInvalidStart;
+  if (!node_free(n_ - 1, p_.q_goal)) return planner::Status::kInvalidGoal;
   const int root_f = add_node(0, 0, p_.q_start, -1, 0.0);
   add_node(1, n_ - 1, p_.q_goal, -1, 0.0);
   try_connect(root_f);
   if (connections_.empty()) find_stretches();
   std::int64_t first_connection_it = connections_.empty() ? -1 : 0;
   std::uniform_real_distribution<double> u01(0.0, 1.0);
-  PlannerStatus status = PlannerStatus::kNoPath;
+  planner::Status status = planner::Status::kNoPath;
   while (true) {
     if (!connections_.empty()) {
       if (first_connection_it < 0) first_connection_it = rep_.iterations;
@@ -35,7 +35,7 @@ PlannerStatus LayeredArmSearch::run(const Deadline& deadline, LayeredArmResult& 
     }
     if (n_ <= 2) break;
     if (rep_.iterations >= s_.max_iterations || deadline.expired()) {
-      status = PlannerStatus::kTimeout;
+      status = planner::Status::kTimeout;
       break;
     }
     ++rep_.iterations;
@@ -57,7 +57,7 @@ PlannerStatus LayeredArmSearch::run(const Deadline& deadline, LayeredArmResult& 
   if (connections_.empty()) return status;
   extract_solution(out);
   shortcut(deadline, out);
-  return PlannerStatus::kSuccess;
+  return planner::Status::kSuccess;
 }
 
 RobotConfiguration LayeredArmSearch::config(int layer, const JointVector& q) const {
@@ -221,7 +221,7 @@ void LayeredArmSearch::extract_solution(LayeredArmResult& out) const {
   out.cost = best;
 }
 
-void LayeredArmSearch::shortcut(const Deadline& deadline, LayeredArmResult& out) {
+void LayeredArmSearch::shortcut(const planner::Deadline& deadline, LayeredArmResult& out) {
   std::vector<JointVector>& q = out.q;
   if (n_ < 3 || static_cast<int>(q.size()) != n_) return;
   std::vector<JointVector> line;

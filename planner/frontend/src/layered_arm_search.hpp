@@ -9,7 +9,7 @@
 #include <utility>
 #include <vector>
 
-#include "porter/frontend/deadline.hpp"
+#include "porter/planner/deadline.hpp"
 #include "porter/frontend/layered_arm_planner.hpp"
 
 namespace porter::frontend::detail {
@@ -30,7 +30,7 @@ class LayeredArmSearch {
   LayeredArmSearch(const RobotModel& model, const planner::CollisionChecker& checker, const LayeredArmSettings& s,
                    const ArmLayerProblem& p, std::uint64_t seed, StageReport& rep);
 
-  PlannerStatus run(const Deadline& deadline, LayeredArmResult& out);
+  planner::Status run(const planner::Deadline& deadline, LayeredArmResult& out);
 
  private:
   /// A run of layers where neither the start's nor the goal's arm configuration fits.
@@ -82,7 +82,7 @@ class LayeredArmSearch {
   void extract_solution(LayeredArmResult& out) const;
   /// shortcut_attempts random shortcuts on out.q (header comment of layered_arm_planner.hpp);
   /// stops early at the deadline. Updates out.cost.
-  void shortcut(const Deadline& deadline, LayeredArmResult& out);
+  void shortcut(const planner::Deadline& deadline, LayeredArmResult& out);
   int next_layer(int tree, int layer) const { return tree == 0 ? layer + 1 : layer - 1; }
 
   const planner::CollisionChecker& checker_;

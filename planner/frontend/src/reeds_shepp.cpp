@@ -1,4 +1,5 @@
 #include "porter/frontend/reeds_shepp.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,12 +10,6 @@
 namespace porter::frontend {
 
 namespace ob = ompl::base;
-
-double wrap_angle(double a_rad) {
-  a_rad = std::remainder(a_rad, 2.0 * M_PI);
-  if (a_rad <= -M_PI) a_rad += 2.0 * M_PI;
-  return a_rad;
-}
 
 int RsPath::cusps() const {
   int n = 0;
@@ -39,7 +34,7 @@ BasePose drive_arc(const BasePose& from, double curvature_1pm, double length_m) 
     p.x_m += r * (std::sin(from.yaw_rad + dyaw) - std::sin(from.yaw_rad));
     p.y_m += r * (-std::cos(from.yaw_rad + dyaw) + std::cos(from.yaw_rad));
   }
-  p.yaw_rad = wrap_angle(from.yaw_rad + dyaw);
+  p.yaw_rad = planner::wrap_angle_rad(from.yaw_rad + dyaw);
   return p;
 }
 

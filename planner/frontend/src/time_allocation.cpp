@@ -1,4 +1,5 @@
 #include "porter/frontend/time_allocation.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,7 +21,7 @@ bool validate_settings(const TimeAllocationSettings& s, std::string* why) {
 
 void step_arc(const BasePose& a, const BasePose& b, double* length_m, double* curvature_1pm) {
   const double chord = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m);
-  const double dyaw = std::abs(wrap_angle(b.yaw_rad - a.yaw_rad));
+  const double dyaw = std::abs(planner::wrap_angle_rad(b.yaw_rad - a.yaw_rad));
   const double half = 0.5 * dyaw;
   const double len = half < 1e-6 ? chord : chord * half / std::sin(half);
   *length_m = len;

@@ -1,4 +1,5 @@
 #include "porter/frontend/whole_body_rrt.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +7,7 @@
 #include <string>
 #include <utility>
 
-#include "porter/frontend/deadline.hpp"
+#include "porter/planner/deadline.hpp"
 #include "tree_rewire.hpp"
 
 namespace porter::frontend {
@@ -139,7 +140,7 @@ class WbSearch {
 
   double cheap_distance(const RobotConfiguration& a, const RobotConfiguration& b) const {
     return std::hypot(b.base.x_m - a.base.x_m, b.base.y_m - a.base.y_m) +
-           0.5 * rs_.turning_radius_m() * std::abs(wrap_angle(b.base.yaw_rad - a.base.yaw_rad)) +
+           0.5 * rs_.turning_radius_m() * std::abs(planner::wrap_angle_rad(b.base.yaw_rad - a.base.yaw_rad)) +
            s_.joint_cost_weight_m_per_rad * (b.q_rad - a.q_rad).norm();
   }
 
@@ -213,10 +214,10 @@ class WbSearch {
     return id;
   }
 
-  PlannerStatus run(const RobotConfiguration& start, const RobotConfiguration& goal, const Deadline& deadline,
+  planner::Status run(const RobotConfiguration& start, const RobotConfiguration& goal, const planner::Deadline& deadline,
                     WholeBodyRrtResult& out) {
-    if (!node_free(start)) return PlannerStatus::kInvalidStart;
-    if (!node_free(goal)) return PlannerStatus::kInvalidGoal;
+    if (!node_free(start)) return planner::Status::kInvalidStart;
+    if (!node_free(goal)) return planner::Status::kInvalidGoal;
     add_node(start, -1, 0.0);
     int goal_id = -1;
     auto try_goal = [&](int from) {
@@ -231,7 +232,7 @@ class WbSearch {
     try_goal(0);
     std::int64_t first_solution_it = goal_id >= 0 ? 0 : -1;
     std::uniform_real_distribution<double> u01(0.0, 1.0);
-    PlannerStatus status = PlannerStatus::kTimeout;
+    planner::Status status = planner::Status::kTimeout;
     std::vector<std::pair<double, int>> near;
     while (true) {
       if (goal_id >= 0) {
@@ -299,7 +300,7 @@ class WbSearch {
     }
     if (goal_id < 0) return status;
     extract(goal_id, out);
-    return PlannerStatus::kSuccess;
+    return planner::Status::kSuccess;
   }
 
   void extract(int goal_id, WholeBodyRrtResult& out) {
@@ -314,7 +315,7 @@ class WbSearch {
         const RobotConfiguration& a = out.path.back().config;
         const RobotConfiguration& b = scratch_[k].config;
         const bool same = std::abs(a.base.x_m - b.base.x_m) < 1e-12 && std::abs(a.base.y_m - b.base.y_m) < 1e-12 &&
-                          std::abs(wrap_angle(a.base.yaw_rad - b.base.yaw_rad)) < 1e-12 &&
+                          std::abs(planner::wrap_angle_rad(a.base.yaw_rad - b.base.yaw_rad)) < 1e-12 &&
                           (a.q_rad - b.q_rad).cwiseAbs().maxCoeff() < 1e-12;
         if (!same) out.path.push_back(scratch_[k]);
       }
@@ -349,8 +350,8 @@ class WbSearch {
 }  // namespace
 
 WholeBodyRrtResult WholeBodyRrt::plan(const RobotConfiguration& start, const RobotConfiguration& goal,
-                                      double budget_s, std::uint64_t seed) const {
-  const Deadline deadline(budget_s);
+                                      const planner::Deadline& budget, std::uint64_t seed) const {
+  const planner::Deadline deadline = budget.from_now();
   WholeBodyRrtResult out;
   out.report.ran = true;
   Eigen::AlignedBox2d box(Eigen::Vector2d(start.base.x_m, start.base.y_m));
@@ -361,9 +362,9 @@ WholeBodyRrtResult WholeBodyRrt::plan(const RobotConfiguration& start, const Rob
   WbSearch search(model_, checker_, radius_m_, box, settings_, seed, out.report);
   out.report.status = search.run(start, goal, deadline, out);
   switch (out.report.status) {
-    case PlannerStatus::kInvalidStart: out.report.message = "start configuration in collision or outside the map"; break;
-    case PlannerStatus::kInvalidGoal: out.report.message = "goal configuration in collision or outside the map"; break;
-    case PlannerStatus::kTimeout: out.report.message = "no connection within the budget"; break;
+    case planner::Status::kInvalidStart: out.report.message = "start configuration in collision or outside the map"; break;
+    case planner::Status::kInvalidGoal: out.report.message = "goal configuration in collision or outside the map"; break;
+    case planner::Status::kTimeout: out.report.message = "no connection within the budget"; break;
     default: break;
   }
   out.report.elapsed_s = deadline.elapsed_s();

@@ -1,5 +1,4 @@
 #include "porter/midend/lbfgs_codes.hpp"
-#include "porter/midend/lbfgs_driver.hpp"
 
 #include <lbfgs.h>
 
@@ -59,16 +58,6 @@ bool lbfgs_code_is_stall(int code) {
     default:
       return false;
   }
-}
-
-int to_lbfgs_line_search(LineSearch ls) {
-  switch (ls) {
-    case LineSearch::kMoreThuente: return LBFGS_LINESEARCH_MORETHUENTE;
-    case LineSearch::kBacktrackingWolfe: return LBFGS_LINESEARCH_BACKTRACKING_WOLFE;
-    case LineSearch::kBacktrackingStrongWolfe: return LBFGS_LINESEARCH_BACKTRACKING_STRONG_WOLFE;
-    case LineSearch::kBacktrackingArmijo: return LBFGS_LINESEARCH_BACKTRACKING_ARMIJO;
-  }
-  return LBFGS_LINESEARCH_DEFAULT;
 }
 
 }  // namespace porter::midend

@@ -21,49 +21,7 @@ double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
 }
 
-struct SolveContext {
-  MidendProblem* problem = nullptr;
-  double scale = 1.0;          ///< x = scale * y, y being liblbfgs' variables
-  Eigen::VectorXd x;           ///< workspace: the unscaled point
-
-  Clock::time_point start;
-  double budget_s = 0.0;
-  int iterations = 0;
-  int evaluations = 0;
-  bool budget_hit = false;
-};
-
-lbfgsfloatval_t evaluate_cb(void* instance, const lbfgsfloatval_t* y, lbfgsfloatval_t* g,
-                            const int n, const lbfgsfloatval_t /*step*/) {
-  auto* ctx = static_cast<SolveContext*>(instance);
-  ++ctx->evaluations;
-  ctx->x = ctx->scale * Eigen::Map<const Eigen::VectorXd>(y, n);
-  const double f = ctx->problem->evaluate(ctx->x.data(), g, nullptr);
-  Eigen::Map<Eigen::VectorXd>(g, n) *= ctx->scale;
-  return f;
-}
-
-int progress_cb(void* instance, const lbfgsfloatval_t* /*x*/, const lbfgsfloatval_t* /*g*/,
-                const lbfgsfloatval_t /*fx*/, const lbfgsfloatval_t /*xnorm*/,
-                const lbfgsfloatval_t /*gnorm*/, const lbfgsfloatval_t /*step*/, int /*n*/, int k,
-                int /*ls*/) {
-  auto* ctx = static_cast<SolveContext*>(instance);
-  ctx->iterations = k;
-  if (seconds_since(ctx->start) >= ctx->budget_s) {
-    ctx->budget_hit = true;
-    return LBFGSERR_CANCELED;  // any non-zero value is returned verbatim by lbfgs()
-  }
-  return 0;
-}
-
-void finish(MidendResult& r, const TrajectoryValidator& validator, Clock::time_point start) {
-  if (r.ok() && validator) {
-    const auto t0 = Clock::now();
-    r.execution = validator(*r.trajectory) ? Execution::kDirect : Execution::kNeedsBackend;
-    r.validate_s = seconds_since(t0);
-  }
-  r.elapsed_s = seconds_since(start);
-}
+void finish(MidendResult& r, Clock::time_point start) { r.elapsed_s = seconds_since(start); }
 
 }  // namespace
 
@@ -107,9 +65,6 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
     return fail("still_max_base_m, still_max_yaw_rad and still_min_arm_rad must be >= 0");
   }
   if (!(s.densify_factor >= 1.0) || s.max_pieces_per_edge < 1) return fail("densify_factor must be >= 1 and max_pieces_per_edge >= 1");
-  if (!(s.rest_densify_factor == 0.0 || (s.rest_densify_factor > 0.0 && s.rest_densify_factor <= s.densify_factor))) {
-    return fail("rest_densify_factor must be 0 (off) or in (0, densify_factor]");
-  }
   if (!pos(s.piece_length_m) || !pos(s.piece_arm_motion_rad) || s.max_edges_per_piece < 1 ||
       !(s.piece_duration_ratio >= 1.0)) {
     return fail("piece_length_m and piece_arm_motion_rad must be > 0, max_edges_per_piece >= 1 and piece_duration_ratio >= 1");
@@ -123,7 +78,6 @@ bool validate_settings(const MidendSettings& s, std::string* why) {
   if (s.max_line_search < 1) return fail("max_line_search must be >= 1");
   if (!pos(s.variable_scale)) return fail("variable_scale must be > 0");
   if (s.max_restarts < 0 || !nonneg(s.restart_min_decrease)) return fail("max_restarts and restart_min_decrease must be >= 0");
-  if (!pos(s.default_time_budget_s)) return fail("default_time_budget_s must be > 0");
   if (!nonneg(s.verify_tolerance) || !std::isfinite(s.verify_step_s)) {
     return fail("verify_tolerance must be >= 0 and verify_step_s finite");
   }
@@ -136,30 +90,40 @@ MidEnd::MidEnd(const RobotModel& robot, MidendSettings settings)
 MidEnd::MidEnd(const MidendLimits& limits, MidendSettings settings)
     : limits_(limits), settings_(std::move(settings)) {}
 
-MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budget_s,
-                           const TrajectoryValidator& validator) const {
-  const auto start = Clock::now();
+MidendResult MidEnd::solve(const planner::WholeBodyPath& path, const planner::Deadline& deadline,
+                           const StartDerivatives& start) const {
+  const auto start_time = Clock::now();
   MidendResult r;
   std::string why;
   if (!limits_.valid(&why)) {
-    r.status = MidendStatus::kInvalidRobotLimits;
+    r.status = planner::Status::kInvalidRobotLimits;
     r.message = why;
-    finish(r, validator, start);
+    finish(r, start_time);
     return r;
   }
   if (!validate_settings(settings_, &why)) {
-    r.status = MidendStatus::kInvalidInput;
+    r.status = planner::Status::kInvalidInput;
     r.message = "settings: " + why;
-    finish(r, validator, start);
+    finish(r, start_time);
     return r;
   }
-  const double budget_s = time_budget_s > 0.0 ? time_budget_s : settings_.default_time_budget_s;
-
-  ReferenceBuild ref = build_reference_path(path, limits_, settings_);
+  if (!start.velocity.allFinite() || !start.acceleration.allFinite()) {
+    r.status = planner::Status::kInvalidStart;
+    r.message = "start velocity or acceleration not finite";
+    finish(r, start_time);
+    return r;
+  }
+  ReferenceBuild ref = build_reference_path(path, limits_, settings_, start);
   if (ref.outcome == ReferenceOutcome::kEmpty || ref.outcome == ReferenceOutcome::kMalformed) {
-    r.status = MidendStatus::kInvalidInput;
+    r.status = planner::Status::kInvalidInput;
     r.message = ref.message;
-    finish(r, validator, start);
+    finish(r, start_time);
+    return r;
+  }
+  if (ref.outcome == ReferenceOutcome::kNoMotion && !(start.velocity.isZero(0.0) && start.acceleration.isZero(0.0))) {
+    r.status = planner::Status::kInvalidStart;
+    r.message = ref.message + ", but the start moves: a path without motion cannot continue it";
+    finish(r, start_time);
     return r;
   }
   if (ref.outcome == ReferenceOutcome::kNoMotion) {
@@ -167,12 +131,12 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
     hold.duration_s = settings_.min_initial_piece_duration_s;
     hold.coeffs.row(0) << ref.single.base.x_m, ref.single.base.y_m, ref.single.q_rad.transpose();
     TrajectoryResult tr = Trajectory::create({hold}, ref.single.base.yaw_rad);
-    r.status = tr.ok() ? MidendStatus::kTrivialPath : MidendStatus::kNumericalFailure;
+    r.status = tr.ok() ? planner::Status::kTrivialPath : planner::Status::kNumericalFailure;
     r.message = tr.ok() ? ref.message + ": stationary trajectory" : tr.error;
     r.trajectory = std::move(tr.trajectory);
     r.num_pieces = 1;
     r.num_segments = 1;
-    finish(r, validator, start);
+    finish(r, start_time);
     return r;
   }
 
@@ -182,76 +146,76 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
   r.num_variables = problem.num_variables();
   const Eigen::VectorXd x0 = problem.initial_guess();
   const double f0 = problem.evaluate(x0.data(), nullptr, &r.initial_cost);
+  r.prepare_s = seconds_since(start_time);
   if (!std::isfinite(f0)) {
-    r.status = MidendStatus::kNumericalFailure;
+    r.status = planner::Status::kNumericalFailure;
     r.message = "the initial guess has a non-finite cost (singular MINCO system?)";
-    finish(r, validator, start);
+    finish(r, start_time);
     return r;
   }
 
   const int n = problem.num_variables();
-  LbfgsBuffer x(n);
-  if (x.data == nullptr) {
-    r.status = MidendStatus::kOptimizerFailed;
+  LbfgsDriver driver(n);
+  if (!driver.ok()) {
+    r.status = planner::Status::kOptimizerFailed;
     r.message = "lbfgs_malloc failed";
-    finish(r, validator, start);
+    finish(r, start_time);
     return r;
   }
   const double scale = settings_.variable_scale;
-  Eigen::Map<Eigen::VectorXd>(x.data, n) = x0 / scale;
-
+  driver.set_x(x0, scale);
   lbfgs_parameter_t param = lbfgs_parameters(settings_);
-
-  SolveContext ctx;
-  ctx.problem = &problem;
-  ctx.scale = scale;
-  ctx.x.resize(n);
-  ctx.start = start;
-  ctx.budget_s = budget_s;
+  int evaluations = 0;
+  const LbfgsDriver::Objective objective = [&](const double* x, double* g) {
+    ++evaluations;
+    return problem.evaluate(x, g, nullptr);
+  };
   const auto t_opt = Clock::now();
   // Restarts: on these stiff costs a run often ends (relative-decrease test or a stalled line
   // search) while the curvature memory is stale, not at a minimum. Restart from the last iterate
   // with a fresh memory while the previous run still decreased the cost noticeably.
-  int code = 0;
+  LbfgsDriver::Run run;
   double f_run_start = f0;
-  for (int run = 0;; ++run) {
+  for (int k = 0;; ++k) {
     param.max_iterations = settings_.max_iterations - r.iterations;
-    ctx.iterations = 0;
-    lbfgsfloatval_t fx = 0.0;
-    code = lbfgs(n, x.data, &fx, evaluate_cb, progress_cb, &ctx, &param);
-    r.iterations += ctx.iterations;
+    run = driver.run(param, objective, {}, deadline);
+    r.iterations += run.iterations;
+    const int code = run.code;
     const bool stopped_early = code == LBFGS_SUCCESS || code == LBFGS_STOP ||
                                code == LBFGS_ALREADY_MINIMIZED || lbfgs_code_is_stall(code);
-    if (!stopped_early || run >= settings_.max_restarts || r.iterations >= settings_.max_iterations) break;
-    ctx.x = scale * Eigen::Map<const Eigen::VectorXd>(x.data, n);
-    const double f_run_end = problem.evaluate(ctx.x.data(), nullptr, nullptr);
-    ++ctx.evaluations;
+    if (!stopped_early || k >= settings_.max_restarts || r.iterations >= settings_.max_iterations) break;
+    const Eigen::VectorXd x_end = driver.x();
+    const double f_run_end = problem.evaluate(x_end.data(), nullptr, nullptr);
+    ++evaluations;
     if (!std::isfinite(f_run_end) ||
         f_run_start - f_run_end <= settings_.restart_min_decrease * std::abs(f_run_end)) {
       break;
     }
     f_run_start = f_run_end;
   }
+  const int code = run.code;
   r.optimize_s = seconds_since(t_opt);
   r.lbfgs_code = code;
-  r.evaluations = ctx.evaluations;
+  r.evaluations = evaluations;
 
-  const Eigen::VectorXd x1 = scale * Eigen::Map<const Eigen::VectorXd>(x.data, n);
+  const Eigen::VectorXd x1 = driver.x();
   const double f1 = problem.evaluate(x1.data(), nullptr, &r.final_cost);
   const std::string detail = std::string("lbfgs: ") + lbfgs_code_to_string(code);
   if (!std::isfinite(f1)) {
-    r.status = MidendStatus::kNumericalFailure;
+    r.status = planner::Status::kNumericalFailure;
     r.message = detail + "; final cost is not finite";
   } else if (code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED) {
-    r.status = MidendStatus::kConverged;
-  } else if (code == LBFGSERR_CANCELED && ctx.budget_hit) {
-    r.status = MidendStatus::kTimeBudgetExceeded;
+    r.status = planner::Status::kConverged;
+  } else if (code == LBFGSERR_CANCELED && run.stop == LbfgsStop::kCanceled) {
+    r.status = planner::Status::kCanceled;
+  } else if (code == LBFGSERR_CANCELED && run.stop == LbfgsStop::kDeadline) {
+    r.status = planner::Status::kTimeout;
   } else if (code == LBFGSERR_MAXIMUMITERATION) {
-    r.status = MidendStatus::kIterationLimit;
+    r.status = planner::Status::kIterationLimit;
   } else if (lbfgs_code_is_stall(code) && f1 < f0) {
-    r.status = MidendStatus::kConvergedWithWarning;
+    r.status = planner::Status::kConvergedWithWarning;
   } else {
-    r.status = MidendStatus::kOptimizerFailed;
+    r.status = planner::Status::kOptimizerFailed;
   }
   if (r.message.empty()) r.message = detail;
 
@@ -268,16 +232,31 @@ MidendResult MidEnd::solve(const planner::WholeBodyPath& path, double time_budge
     }
     if (tr.ok() && !violation.empty()) {
       r.message = std::string("optimizer: ") + to_string(r.status) + ", " + detail + "; rejected: " + violation;
-      r.status = MidendStatus::kConstraintViolation;
+      r.status = planner::Status::kConstraintViolation;
     } else if (tr.ok()) {
       r.trajectory = std::move(tr.trajectory);
+      // Handed over with the time scale folded into the piece times (sigma = 0): the back-end's
+      // L-BFGS starts from a neutral global time scale, whatever sigma this solve ended with.
+      Eigen::VectorXd x_handed;
+      if (!problem.decision_from_trajectory(*r.trajectory, x_handed)) x_handed = x1;
+      r.solution = MidendSolution{problem.reference(), settings_, std::move(x_handed)};
     } else {
-      r.status = MidendStatus::kNumericalFailure;
+      r.status = planner::Status::kNumericalFailure;
       r.message = detail + "; trajectory rejected: " + tr.error;
     }
   }
-  finish(r, validator, start);
+  finish(r, start_time);
   return r;
+}
+
+std::optional<MidendSolution> MidEnd::solution_for(const planner::WholeBodyPath& path, const Trajectory& trajectory,
+                                                   const StartDerivatives& start) const {
+  ReferenceBuild ref = build_reference_path(path, limits_, settings_, start);
+  if (ref.outcome != ReferenceOutcome::kOk || !limits_.valid(nullptr)) return std::nullopt;
+  MidendProblem problem(std::move(ref.path), limits_, settings_);
+  Eigen::VectorXd x;
+  if (!problem.decision_from_trajectory(trajectory, x)) return std::nullopt;
+  return MidendSolution{problem.reference(), settings_, std::move(x)};
 }
 
 }  // namespace porter::midend

@@ -73,10 +73,11 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
     }
     l.still = seg.base_still;
     if (l.still) l.still_base = Eigen::Vector2d(seg.nodes.front().base.x_m, seg.nodes.front().base.y_m);
-    // The base rests at the global start / goal and where a still segment begins or ends.
-    l.rest_start = !l.still && (s == 0 || reference_.segments[s - 1].base_still);
+    // The base rests at the global start (unless the start state moves it) and goal and where a
+    // still segment begins or ends. No speed is kept on the piece leaving the global start.
+    l.rest_start = !l.still && (s == 0 ? reference_.start.base_at_rest() : reference_.segments[s - 1].base_still);
     l.rest_end = !l.still && (s + 1 == num_segments || reference_.segments[s + 1].base_still);
-    if (l.rest_start) l.min_speed.front() = 0.0;
+    if (l.rest_start || s == 0) l.min_speed.front() = 0.0;
     if (l.rest_end) l.min_speed.back() = 0.0;
   }
   gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
@@ -177,6 +178,8 @@ bool MidendProblem::build_segment(int s, const double* x) {
   Minco::BoundaryState tail = Minco::BoundaryState::Zero();
   if (s == 0) {
     head.col(0) = node_vector(seg.nodes.front());
+    head.col(1) = reference_.start.velocity;
+    head.col(2) = reference_.start.acceleration;
   } else {
     gear_state(s - 1, head);
   }

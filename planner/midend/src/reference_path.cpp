@@ -1,4 +1,5 @@
 #include "porter/midend/reference_path.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -53,7 +54,7 @@ Node interpolate(const Node& a, const Node& b, double s) {
   n.config.base.x_m = a.config.base.x_m + s * (b.config.base.x_m - a.config.base.x_m);
   n.config.base.y_m = a.config.base.y_m + s * (b.config.base.y_m - a.config.base.y_m);
   n.config.base.yaw_rad =
-      a.config.base.yaw_rad + s * angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad);
+      a.config.base.yaw_rad + s * planner::angle_difference_rad(b.config.base.yaw_rad, a.config.base.yaw_rad);
   n.config.q_rad = a.config.q_rad + s * (b.config.q_rad - a.config.q_rad);
   n.time_s = a.time_s + s * (b.time_s - a.time_s);
   return n;
@@ -69,7 +70,7 @@ int still_tail_start(const std::vector<Node>& nodes, const MidendSettings& st) {
     const Node& a = nodes[static_cast<std::size_t>(e)];
     const Node& b = nodes[static_cast<std::size_t>(e + 1)];
     base += base_distance(a, b);
-    yaw += std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad));
+    yaw += std::abs(planner::angle_difference_rad(b.config.base.yaw_rad, a.config.base.yaw_rad));
     arm += (b.config.q_rad - a.config.q_rad).norm();
     if (base > st.still_max_base_m || yaw > st.still_max_yaw_rad) break;
     if (arm >= st.still_min_arm_rad) best = e;
@@ -111,25 +112,13 @@ bool split_still(Segment& seg, int k, bool at_end, const MidendSettings& st, Seg
 }
 
 // Step 6 for one front-end edge whose length is len_b rho_b (base metric) and len_m rho_m
-// (joints): the fractions in (0, 1] of its reference nodes, the last one 1. Equal sub-edges of at
-// most densify_factor rho; a sub-edge touching a rest instant (rest_a: the edge's start, rest_b:
-// its end) is split again into equal parts of at most rest_densify_factor rho (when > 0).
-std::vector<double> densify_fractions(double len_b, double len_m, bool rest_a, bool rest_b,
-                                      const MidendSettings& st) {
-  const auto parts = [&](double len, double factor) {
-    return static_cast<int>(std::ceil(len / factor - 1e-9));
-  };
+// (joints): the fractions in (0, 1] of its reference nodes, the last one 1: equal sub-edges of at
+// most densify_factor rho.
+std::vector<double> densify_fractions(double len_b, double len_m, const MidendSettings& st) {
   const double len = std::max(len_b, len_m);
-  const int m = std::clamp(parts(len, st.densify_factor), 1, st.max_pieces_per_edge);
-  const int r = st.rest_densify_factor > 0.0
-                    ? std::clamp(parts(len / m, st.rest_densify_factor), 1, st.max_pieces_per_edge)
-                    : 1;
+  const int m = std::clamp(static_cast<int>(std::ceil(len / st.densify_factor - 1e-9)), 1, st.max_pieces_per_edge);
   std::vector<double> out;
-  for (int k = 0; k < m; ++k) {
-    const bool split = r > 1 && ((k == 0 && rest_a) || (k + 1 == m && rest_b));
-    const int n = split ? r : 1;
-    for (int j = 1; j <= n; ++j) out.push_back((k + static_cast<double>(j) / n) / m);
-  }
+  for (int k = 0; k < m; ++k) out.push_back((k + 1.0) / m);
   out.back() = 1.0;
   return out;
 }
@@ -161,7 +150,7 @@ double ramp_time(double d, double w0, double w1, double a, double cap) {
 // constant-speed floor is kept: there the arm ramps stretched the edges where the base creeps
 // during an arm reconfiguration and made several forest / tunnel solves stall (measured).
 std::vector<double> arm_edge_times(const std::vector<ReferenceSegment>& segments,
-                                   const MidendLimits& limits, double f) {
+                                   const MidendLimits& limits, double f, const StartDerivatives& start) {
   std::vector<JointVector> dq;
   for (const ReferenceSegment& seg : segments) {
     for (std::size_t i = 0; i + 1 < seg.nodes.size(); ++i) dq.push_back(seg.nodes[i + 1].q_rad - seg.nodes[i].q_rad);
@@ -173,6 +162,7 @@ std::vector<double> arm_edge_times(const std::vector<ReferenceSegment>& segments
     const double cap = f * limits.joint_velocity_max_radps[j];
     const double acc = f * limits.joint_acceleration_max_radps2[j];
     for (std::size_t k = 0; k <= n; ++k) w[k] = k > 0 && k < n ? cap : 0.0;
+    w[0] = std::min(cap, std::abs(start.velocity[2 + j]));  // the start's joint speed (0 at rest)
     for (std::size_t k = 0; k < n; ++k) w[k + 1] = std::min(w[k + 1], std::sqrt(w[k] * w[k] + 2.0 * acc * std::abs(dq[k][j])));
     for (std::size_t k = n; k-- > 0;) w[k] = std::min(w[k], std::sqrt(w[k + 1] * w[k + 1] + 2.0 * acc * std::abs(dq[k][j])));
     for (std::size_t k = 0; k < n; ++k) out[k] = std::max(out[k], ramp_time(std::abs(dq[k][j]), w[k], w[k + 1], acc, cap));
@@ -181,9 +171,9 @@ std::vector<double> arm_edge_times(const std::vector<ReferenceSegment>& segments
 }
 
 void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits& limits,
-                    const MidendSettings& settings) {
+                    const MidendSettings& settings, const StartDerivatives& start) {
   const double f = settings.initial_speed_fraction;
-  const std::vector<double> arm_s = arm_edge_times(segments, limits, f);
+  const std::vector<double> arm_s = arm_edge_times(segments, limits, f, start);
   const double v_max = f * limits.max_base_speed_mps();
   const double yaw_rate_max = f * limits.max_base_yaw_rate_radps();
   const double a_max = f * limits.wheel_radius_m * limits.wheel_alpha_max_radps2;
@@ -195,13 +185,13 @@ void allocate_times(std::vector<ReferenceSegment>& segments, const MidendLimits&
   std::vector<double> v_node;  // speed bound at every node (segment joints shared)
   for (std::size_t s = 0; s < segments.size(); ++s) {
     const auto& nodes = segments[s].nodes;
-    if (s == 0) v_node.push_back(0.0);
+    if (s == 0) v_node.push_back(std::min(v_max, start.velocity.head<2>().norm()));  // 0 at rest
     for (std::size_t i = 0; i + 1 < nodes.size(); ++i) {
       const RobotConfiguration& a = nodes[i];
       const RobotConfiguration& b = nodes[i + 1];
       Edge e;
       e.length_m = std::hypot(b.base.x_m - a.base.x_m, b.base.y_m - a.base.y_m);
-      const double dyaw = std::abs(angle_difference(b.base.yaw_rad, a.base.yaw_rad));
+      const double dyaw = std::abs(planner::angle_difference_rad(b.base.yaw_rad, a.base.yaw_rad));
       e.floor_s = std::max(settings.min_initial_piece_duration_s, dyaw / yaw_rate_max);
       if (segments[s].base_still) {
         e.floor_s = std::max(e.floor_s, arm_s[edges.size()]);
@@ -321,7 +311,7 @@ void group_pieces(std::vector<ReferenceSegment>& segments, const MidendSettings&
 }  // namespace
 
 ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const MidendLimits& limits,
-                                    const MidendSettings& settings) {
+                                    const MidendSettings& settings, const StartDerivatives& start) {
   ReferenceBuild out;
   const double tol = settings.coincident_tolerance;
 
@@ -420,7 +410,7 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
   if (settings.still_max_base_m > 0.0) {
     auto close = [&](const Node& a, const Node& b) {
       return base_distance(a, b) <= 0.1 * settings.still_max_base_m &&
-             std::abs(angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad)) <= settings.still_max_yaw_rad &&
+             std::abs(planner::angle_difference_rad(b.config.base.yaw_rad, a.config.base.yaw_rad)) <= settings.still_max_yaw_rad &&
              (b.config.q_rad - a.config.q_rad).norm() < settings.still_min_arm_rad;
     };
     std::vector<Node>& last = segs.back().nodes;
@@ -435,7 +425,8 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     const int tail = still_tail_start(segs.back().nodes, settings);
     if (tail > 0 && split_still(segs.back(), tail, true, settings, &still)) segs.push_back(std::move(still));
     std::vector<Node> reversed(segs.front().nodes.rbegin(), segs.front().nodes.rend());
-    const int head = segs.front().still ? -1 : still_tail_start(reversed, settings);
+    // Not while the base moves at the start: it cannot rest there.
+    const int head = segs.front().still || !start.base_at_rest() ? -1 : still_tail_start(reversed, settings);
     Segment still_head;
     if (head > 0 && split_still(segs.front(), head, false, settings, &still_head)) {
       segs.insert(segs.begin(), std::move(still_head));
@@ -443,12 +434,9 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
   }
 
   // 6-8. densify, allocate time, group edges into pieces.
-  // Rest instants: the global start and goal, and the junctions with a still segment.
   const std::size_t num_segs = segs.size();
   for (std::size_t si = 0; si < num_segs; ++si) {
     const Segment& s = segs[si];
-    const bool rest_front = si == 0 || s.still || segs[si - 1].still;
-    const bool rest_back = si + 1 == num_segs || s.still || segs[si + 1].still;
     ReferenceSegment r;
     r.eta = s.eta;
     r.base_still = s.still;
@@ -456,13 +444,12 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     for (std::size_t i = 1; i < s.nodes.size(); ++i) {
       const Node& a = s.nodes[i - 1];
       const Node& b = s.nodes[i];
-      const double dyaw = angle_difference(b.config.base.yaw_rad, a.config.base.yaw_rad);
+      const double dyaw = planner::angle_difference_rad(b.config.base.yaw_rad, a.config.base.yaw_rad);
       const double db = std::sqrt(base_distance(a, b) * base_distance(a, b) +
                                   settings.residual_yaw_weight_m2 * dyaw * dyaw);
       const double dq = (b.config.q_rad - a.config.q_rad).norm();
-      const std::vector<double> fractions = densify_fractions(
-          db / settings.residual_base_bound_m, dq / settings.residual_arm_bound_rad,
-          i == 1 && rest_front, i + 1 == s.nodes.size() && rest_back, settings);
+      const std::vector<double> fractions =
+          densify_fractions(db / settings.residual_base_bound_m, dq / settings.residual_arm_bound_rad, settings);
       for (std::size_t k = 0; k < fractions.size(); ++k) {
         const Node n = k + 1 == fractions.size() ? b : interpolate(a, b, fractions[k]);
         r.nodes.push_back(n.config);
@@ -470,7 +457,8 @@ ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const Mi
     }
     out.path.segments.push_back(std::move(r));
   }
-  allocate_times(out.path.segments, limits, settings);
+  out.path.start = start;
+  allocate_times(out.path.segments, limits, settings, start);
   group_pieces(out.path.segments, settings);
   out.outcome = ReferenceOutcome::kOk;
   return out;

@@ -5,6 +5,7 @@
 #include <cstdint>
 
 #include "porter/core/types.hpp"
+#include "porter/planner/angle.hpp"
 #include "porter/midend/diff_drive.hpp"
 #include "porter/midend/midend_limits.hpp"
 #include "porter/midend/midend_problem.hpp"
@@ -142,7 +143,7 @@ struct SamplePenalty {
       const Eigen::Vector2d v = s.vel.head<2>();
       Eigen::Vector2d dphi_dv;
       const double phi = heading_from_velocity(v, eta, &dphi_dv);
-      const double dyaw = angle_difference(phi, node.base.yaw_rad);
+      const double dyaw = planner::angle_difference_rad(phi, node.base.yaw_rad);
       const double v2 = v.squaredNorm();
       const double gate2 = settings->yaw_gate_speed_mps * settings->yaw_gate_speed_mps;
       const double gate = v2 / (v2 + gate2);

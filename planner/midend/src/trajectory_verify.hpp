@@ -1,6 +1,5 @@
 #pragma once
-// Internal: the mid-end's last check of its own result (issue 5: "never a silently wrong
-// trajectory"). The optimizer enforces limits by penalties at samples, so a run that stops early
+// Internal: the mid-end's last check of its own result (never a silently wrong trajectory). The optimizer enforces limits by penalties at samples, so a run that stops early
 // or lands in a poor local minimum can return a trajectory that breaks them; this samples the
 // final trajectory through porter::Trajectory (core's rates, not the optimizer's formulas) and
 // reports the first gross violation.

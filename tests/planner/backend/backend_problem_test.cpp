@@ -82,8 +82,12 @@ TEST_P(BackendProblemTest, WarmStartRoundTrip) {
   BackendProblem problem(std::move(ref.path), mid.limits(), mid.settings(), safety);
 
   Eigen::VectorXd x;
-  ASSERT_TRUE(problem.decision_from_trajectory(*fx.mid.trajectory, x));
+  ASSERT_TRUE(problem.midend().decision_from_trajectory(*fx.mid.trajectory, x));
   ASSERT_EQ(x.size(), problem.num_variables());
+  // The mid-end hands the back-end exactly this decision vector with its solution.
+  ASSERT_TRUE(fx.mid.solution.has_value());
+  EXPECT_EQ(fx.mid.solution->x, x);
+  EXPECT_EQ(fx.mid.solution->reference.num_pieces(), problem.num_pieces());
   const std::optional<Trajectory> back = problem.trajectory(x.data());
   ASSERT_TRUE(back.has_value());
   ASSERT_EQ(back->num_pieces(), fx.mid.trajectory->num_pieces());
@@ -102,7 +106,7 @@ TEST_P(BackendProblemTest, WarmStartRoundTrip) {
   std::vector<TrajectoryPiece> fewer(fx.mid.trajectory->pieces().begin(), fx.mid.trajectory->pieces().end() - 1);
   const TrajectoryResult shorter = Trajectory::create(std::move(fewer), problem.midend().start_yaw_rad());
   ASSERT_TRUE(shorter.ok());
-  EXPECT_FALSE(problem.decision_from_trajectory(*shorter.trajectory, x));
+  EXPECT_FALSE(problem.midend().decision_from_trajectory(*shorter.trajectory, x));
 }
 
 TEST_P(BackendProblemTest, WholeCostGradientMatchesCentralDifferences) {
@@ -122,7 +126,7 @@ TEST_P(BackendProblemTest, WholeCostGradientMatchesCentralDifferences) {
   const int n = problem.num_variables();
 
   Eigen::VectorXd x;
-  ASSERT_TRUE(problem.decision_from_trajectory(*fx.mid.trajectory, x));
+  ASSERT_TRUE(problem.midend().decision_from_trajectory(*fx.mid.trajectory, x));
   // Away from the warm start, so that the time map's factors are not 1 and the mid-end terms are
   // not at their minimum: sigma != 0 (every duration scaled by exp(sigma)), waypoints, taus and
   // gear states jittered.

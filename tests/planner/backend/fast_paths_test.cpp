@@ -1,4 +1,4 @@
-// The J_s fast paths against their slow references (issue 6, back-end speed): the lean t* scan
+// The J_s fast paths against their slow references: the lean t* scan
 // (SvsdfSettings::lean_scan: smaller look-up level, per-interval Lipschitz skip) returns exactly
 // what the reference scan returns; the SDF prefilter level (SvsdfSafetySettings::sdf_prefilter)
 // leaves J_s and its gradient unchanged; the swept body's per-interval motion bounds are bounds.

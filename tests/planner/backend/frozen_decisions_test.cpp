@@ -1,4 +1,4 @@
-// Frozen ball-search decisions (kc_svsdf.hpp "Frozen decisions", issue 6): recording changes
+// Frozen ball-search decisions (kc_svsdf.hpp "Frozen decisions"): recording changes
 // nothing, a replay at the recording point reproduces Algorithm 1, the replayed D and the g_j(p)
 // surrogate have finite-difference-exact gradients, and SvsdfSafetyTerm::refresh_decisions() makes
 // the next evaluation Algorithm 1's again.

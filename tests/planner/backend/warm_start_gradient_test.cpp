@@ -41,6 +41,7 @@
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/core/trajectory_json.hpp"
 #include "porter/midend/midend.hpp"
+#include "porter/pipeline/kernel_acceptance.hpp"
 #include "porter/planner/collision/kernel_collision_checker.hpp"
 
 namespace porter::backend {
@@ -50,6 +51,13 @@ struct WarmStart {
   planner::WholeBodyPath path;
   std::optional<Trajectory> trajectory;
 };
+
+/// The mid-end solution behind a recorded warm start (what the mid-end hands the back-end).
+midend::MidendSolution solution_of(const WarmStart& ws, const RobotModel& model) {
+  const std::optional<midend::MidendSolution> s = midend::MidEnd(model).solution_for(ws.path, *ws.trajectory);
+  if (!s) throw std::runtime_error("the fixture's trajectory does not belong to its path");
+  return *s;
+}
 
 WarmStart load_fixture(const std::string& file) {
   std::ifstream in(file);
@@ -77,7 +85,7 @@ WarmStart load_fixture(const std::string& file) {
   return {std::move(path), std::move(t.trajectory)};
 }
 
-/// The safety term's settings as porter-plan builds them (planner/app/backend_stage.cpp): margins
+/// The safety term's settings as the pipeline builds them (Planner::prepare_backend): margins
 /// from the kernel re-check's inflation.
 SvsdfSafetySettings porter_plan_term_settings(const planner::KernelCollisionChecker& checker, const OccupancyGrid& grid,
                                               const RobotSdf& sdf) {
@@ -125,7 +133,7 @@ ProblemAtWarmStart problem_at_warm_start(const TunnelCase& tc, SvsdfSafetyTerm& 
   if (ref.outcome != midend::ReferenceOutcome::kOk) return out;
   safety.prepare(tc.grid, *tc.ws.trajectory);
   out.problem = std::make_unique<BackendProblem>(std::move(ref.path), mid.limits(), mid.settings(), safety);
-  if (!out.problem->decision_from_trajectory(*tc.ws.trajectory, out.x)) out.problem.reset();
+  if (!out.problem->midend().decision_from_trajectory(*tc.ws.trajectory, out.x)) out.problem.reset();
   return out;
 }
 
@@ -210,13 +218,12 @@ TEST(BackendWarmStart, TunnelSeed1PrefilteredPenaltyEqualsTheSlowReference) {
 
 TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
   const TunnelCase tc = tunnel_case();
-  const midend::MidEnd mid(*tc.model);
   BackendSettings bs;
-  bs.problem = mid.settings();
   bs.max_iterations = 80;  // the bound; the budget is generous so that the machine does not matter
   const BackEnd backend(*tc.model, bs);
   SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
-  const BackendResult r = backend.solve(tc.ws.path, *tc.ws.trajectory, tc.grid, term, 60.0, tc.checker.get());
+  const pipeline::KernelAcceptance acceptance(*tc.checker);
+  const BackendResult r = backend.solve(solution_of(tc.ws, *tc.model), tc.grid, term, planner::Deadline(60.0), &acceptance);
   ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
   EXPECT_GT(r.iterations, 0);
   EXPECT_LT(r.final_cost.safety, 0.7 * r.initial_cost.safety);
@@ -259,16 +266,14 @@ TEST(BackendWarmStart, TunnelSeed1CutoffSkipsJsAndReturnsTheMidendTerms) {
 
 /// The back-end on the fixture with an iteration cap, no checker (no re-checks, one round).
 BackendResult capped_solve(const TunnelCase& tc, int max_iterations, bool probe, bool skip) {
-  const midend::MidEnd mid(*tc.model);
   BackendSettings bs;
-  bs.problem = mid.settings();
   bs.max_iterations = max_iterations;
   bs.probe_first_step = probe;
   bs.skip_safety_above_current = skip;
   bs.max_line_search = 40;  // without the probe, the first line search needs ~12 halvings here
   const BackEnd backend(*tc.model, bs);
   SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
-  return backend.solve(tc.ws.path, *tc.ws.trajectory, tc.grid, term, 120.0, nullptr);
+  return backend.solve(solution_of(tc.ws, *tc.model), tc.grid, term, planner::Deadline(120.0), nullptr);
 }
 
 TEST(BackendWarmStart, TunnelSeed1SkippingJsAboveTheCurrentCostLeavesTheIteratesUnchanged) {
@@ -342,13 +347,13 @@ TEST(BackendWarmStart, TunnelSeed1StopAtTheBudgetIsNotReportedAsConvergence) {
   // relative cost decrease test" until the callback stopped returning 1, liblbfgs's LBFGS_STOP;
   // that path depends on timing and is not constructed here.)
   const TunnelCase tc = tunnel_case();
-  const midend::MidEnd mid(*tc.model);
   BackendSettings bs;
-  bs.problem = mid.settings();
   const BackEnd backend(*tc.model, bs);
   SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
-  const BackendResult r = backend.solve(tc.ws.path, *tc.ws.trajectory, tc.grid, term, 1e-6, tc.checker.get());
-  EXPECT_EQ(r.status, BackendStatus::kTimeBudgetExceeded) << r.message;
+  const pipeline::KernelAcceptance acceptance(*tc.checker);
+  const midend::MidendSolution warm = solution_of(tc.ws, *tc.model);
+  const BackendResult r = backend.solve(warm, tc.grid, term, planner::Deadline(1e-6), &acceptance);
+  EXPECT_EQ(r.status, planner::Status::kTimeout) << r.message;
   EXPECT_EQ(r.message.find("relative cost"), std::string::npos) << r.message;
   EXPECT_TRUE(r.ok());
   EXPECT_LE(r.iterations, 1);
@@ -369,14 +374,14 @@ TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
   ASSERT_FALSE(checker.check_trajectory_self(*ws.trajectory).in_collision);
   const SvsdfSafetySettings ss = porter_plan_term_settings(checker, grid, sdf);
 
-  const midend::MidEnd mid(model);
   BackendSettings bs;
-  bs.problem = mid.settings();
   bs.max_iterations = 300;  // with a generous budget: the same run on any machine
   const BackEnd backend(model, bs);
 
   SvsdfSafetyTerm plain_term(model, sdf, ss);
-  const BackendResult plain = backend.solve(ws.path, *ws.trajectory, grid, plain_term, 120.0, &checker);
+  const pipeline::KernelAcceptance acceptance(checker);
+  const midend::MidendSolution warm = solution_of(ws, model);
+  const BackendResult plain = backend.solve(warm, grid, plain_term, planner::Deadline(120.0), &acceptance);
   ASSERT_TRUE(plain.ok()) << plain.message;
   EXPECT_EQ(plain.check, SafetyCheck::kInCollision);
   EXPECT_TRUE(checker.check_trajectory_self(*plain.trajectory).in_collision) << "the arm should end on the base";
@@ -384,7 +389,7 @@ TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
 
   SvsdfSafetyTerm term(model, sdf, ss);
   SelfCollisionTerm self(model, sdf, checker.self_collision().checked_pairs(), checker.self_collision().inflation_bound_m());
-  const BackendResult r = backend.solve(ws.path, *ws.trajectory, grid, term, 120.0, &checker, &self);
+  const BackendResult r = backend.solve(warm, grid, term, planner::Deadline(120.0), &acceptance, &self);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;
   EXPECT_GT(r.self_collision_s, 0.0);

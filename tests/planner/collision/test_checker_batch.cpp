@@ -177,6 +177,8 @@ class CountingChecker final : public CollisionChecker {
   CollisionResult check_base(const BasePose&) const override { return {}; }
   CollisionResult check_motion(const RobotConfiguration&, const RobotConfiguration&) const override { return {}; }
   CollisionResult check_trajectory(const Trajectory&) const override { return {}; }
+  CollisionResult check_trajectory_self(const Trajectory&) const override { return {}; }
+  double inflation_bound_m(int) const override { return 0.0; }
   std::string name() const override { return "counting"; }
   mutable int calls = 0;
 };

@@ -29,6 +29,10 @@ class ExactCollisionChecker : public planner::CollisionChecker {
   planner::CollisionResult check_base(const BasePose& base) const override;
   planner::CollisionResult check_motion(const RobotConfiguration& from, const RobotConfiguration& to) const override;
   planner::CollisionResult check_trajectory(const Trajectory& trajectory) const override;
+  /// Self-collision is not covered (see above): always free.
+  planner::CollisionResult check_trajectory_self(const Trajectory&) const override { return {}; }
+  /// Exact: no inflation.
+  double inflation_bound_m(int) const override { return 0.0; }
   std::string name() const override { return "exact-test"; }
 
   /// Environment/ground test of one link placed at T_W_L.

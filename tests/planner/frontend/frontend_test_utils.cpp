@@ -1,4 +1,5 @@
 #include "frontend_test_utils.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <sstream>
 
@@ -6,7 +7,7 @@ namespace porter::test {
 
 bool same_config(const RobotConfiguration& a, const RobotConfiguration& b, double tol) {
   return std::abs(a.base.x_m - b.base.x_m) <= tol && std::abs(a.base.y_m - b.base.y_m) <= tol &&
-         std::abs(frontend::wrap_angle(a.base.yaw_rad - b.base.yaw_rad)) <= tol &&
+         std::abs(planner::wrap_angle_rad(a.base.yaw_rad - b.base.yaw_rad)) <= tol &&
          (a.q_rad - b.q_rad).cwiseAbs().maxCoeff() <= tol;
 }
 
@@ -67,13 +68,13 @@ std::vector<std::string> check_path(const planner::WholeBodyPath& path, const Ro
       err("joint speed limit violated", i);
     const double dx = c.base.x_m - p.base.x_m, dy = c.base.y_m - p.base.y_m;
     const double chord = std::hypot(dx, dy);
-    const double dyaw = frontend::wrap_angle(c.base.yaw_rad - p.base.yaw_rad);
+    const double dyaw = planner::wrap_angle_rad(c.base.yaw_rad - p.base.yaw_rad);
     if (chord < 1e-9) {
       if (std::abs(dyaw) > 1e-9) err("turn in place", i);
     } else {
       if (std::abs(dyaw) > 2.0 * std::asin(std::min(1.0, chord / (2.0 * R))) + 1e-6) err("turning radius violated", i);
       const double heading = std::atan2(dy, dx) + (nodes[i].eta < 0 ? M_PI : 0.0);
-      if (std::abs(frontend::wrap_angle(heading - (p.base.yaw_rad + 0.5 * dyaw))) > 1e-6)
+      if (std::abs(planner::wrap_angle_rad(heading - (p.base.yaw_rad + 0.5 * dyaw))) > 1e-6)
         err("yaw not tied to the driving direction", i);
     }
     for (const auto* checker : checkers)

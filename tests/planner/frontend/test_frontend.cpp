@@ -35,7 +35,7 @@ struct Fixture {
 TEST(FrontEnd, OpenFloor) {
   Fixture f(test::open_scene_yaml());
   const FrontendResult r = f.frontend.plan(f.scene.start, f.scene.goal, 30.0, 1);
-  ASSERT_EQ(r.status, PlannerStatus::kSuccess) << r.message;
+  ASSERT_EQ(r.status, planner::Status::kSuccess) << r.message;
   const auto errors = f.check(r);
   EXPECT_TRUE(errors.empty()) << errors.front();
   EXPECT_TRUE(r.hybrid_astar.ran);
@@ -49,7 +49,7 @@ TEST(FrontEnd, DetourWithArmChange) {
   f.scene.goal.q_rad[0] = 0.7;
   f.scene.goal.q_rad[5] = 1.2;
   const FrontendResult r = f.frontend.plan(f.scene.start, f.scene.goal, 60.0, 4);
-  ASSERT_EQ(r.status, PlannerStatus::kSuccess) << r.message;
+  ASSERT_EQ(r.status, planner::Status::kSuccess) << r.message;
   const auto errors = f.check(r);
   EXPECT_TRUE(errors.empty()) << errors.front();
 }
@@ -58,7 +58,7 @@ TEST(FrontEnd, ArmOnlyGoalUsesTheFallback) {
   Fixture f(test::open_scene_yaml("[0.0, 0.0, 0.0]"));
   f.scene.goal.q_rad[0] = 1.0;
   const FrontendResult r = f.frontend.plan(f.scene.start, f.scene.goal, 60.0, 2);
-  ASSERT_EQ(r.status, PlannerStatus::kSuccess) << r.message;
+  ASSERT_EQ(r.status, planner::Status::kSuccess) << r.message;
   EXPECT_TRUE(r.used_fallback);
   const auto errors = f.check(r);
   EXPECT_TRUE(errors.empty()) << errors.front();
@@ -67,7 +67,7 @@ TEST(FrontEnd, ArmOnlyGoalUsesTheFallback) {
 TEST(FrontEnd, WalledOffGoalIsNoPath) {
   Fixture f(test::walled_goal_scene_yaml());
   const FrontendResult r = f.frontend.plan(f.scene.start, f.scene.goal, 10.0, 1);
-  EXPECT_EQ(r.status, PlannerStatus::kNoPath);
+  EXPECT_EQ(r.status, planner::Status::kNoPath);
   EXPECT_TRUE(r.path.empty());
   EXPECT_NE(r.message.find("Hybrid A*"), std::string::npos);
 }
@@ -77,32 +77,32 @@ TEST(FrontEnd, InvalidEndpointsAreReportedWithReasons) {
   RobotConfiguration c = f.scene.start;
   c.q_rad[1] = 3.5;  // joint 2 upper limit is 3.14
   FrontendResult r = f.frontend.plan(c, f.scene.goal, 1.0, 1);
-  EXPECT_EQ(r.status, PlannerStatus::kInvalidStart);
+  EXPECT_EQ(r.status, planner::Status::kInvalidStart);
   EXPECT_NE(r.message.find("joint 2"), std::string::npos) << r.message;
   c = f.scene.start;
   c.base = {2.5, -1.0, 0.0};  // inside the wall
   r = f.frontend.plan(f.scene.start, c, 1.0, 1);
-  EXPECT_EQ(r.status, PlannerStatus::kInvalidGoal);
+  EXPECT_EQ(r.status, planner::Status::kInvalidGoal);
   EXPECT_NE(r.message.find("collision"), std::string::npos) << r.message;
   c.base = {50.0, 0.0, 0.0};
   r = f.frontend.plan(f.scene.start, c, 1.0, 1);
-  EXPECT_EQ(r.status, PlannerStatus::kInvalidGoal);
+  EXPECT_EQ(r.status, planner::Status::kInvalidGoal);
   EXPECT_NE(r.message.find("outside the map"), std::string::npos) << r.message;
   c.base.x_m = std::nan("");
-  EXPECT_EQ(f.frontend.plan(c, f.scene.goal, 1.0, 1).status, PlannerStatus::kInvalidStart);
+  EXPECT_EQ(f.frontend.plan(c, f.scene.goal, 1.0, 1).status, planner::Status::kInvalidStart);
 }
 
 TEST(FrontEnd, ExhaustedBudgetIsATimeout) {
   Fixture f(test::gap_scene_yaml());
   const FrontendResult r = f.frontend.plan(f.scene.start, f.scene.goal, 0.0, 1);
-  EXPECT_EQ(r.status, PlannerStatus::kTimeout);
+  EXPECT_EQ(r.status, planner::Status::kTimeout);
   EXPECT_TRUE(r.path.empty());
 }
 
-TEST(FrontEnd, NoMapIsNoPath) {
+TEST(FrontEnd, NoMapIsNoMap) {
   Fixture f(test::open_scene_yaml());
   FrontEnd fresh(f.model, f.exact);
-  EXPECT_EQ(fresh.plan(f.scene.start, f.scene.goal, 1.0, 1).status, PlannerStatus::kNoPath);
+  EXPECT_EQ(fresh.plan(f.scene.start, f.scene.goal, 1.0, 1).status, planner::Status::kNoMap);
 }
 
 TEST(FrontEnd, SameSeedSamePath) {
@@ -110,7 +110,7 @@ TEST(FrontEnd, SameSeedSamePath) {
   f.scene.goal.q_rad[0] = -0.6;
   const FrontendResult a = f.frontend.plan(f.scene.start, f.scene.goal, 60.0, 11);
   const FrontendResult b = f.frontend.plan(f.scene.start, f.scene.goal, 60.0, 11);
-  ASSERT_EQ(a.status, PlannerStatus::kSuccess);
+  ASSERT_EQ(a.status, planner::Status::kSuccess);
   ASSERT_EQ(a.path.segments.size(), b.path.segments.size());
   const auto fa = test::flatten(a.path), fb = test::flatten(b.path);
   ASSERT_EQ(fa.size(), fb.size());
@@ -130,8 +130,8 @@ TEST(FrontEnd, SettingsValidation) {
   s = FrontendSettings{};
   s.hybrid_astar_budget_fraction = 0.0;
   EXPECT_FALSE(validate_settings(s, &why));
-  EXPECT_EQ(std::string(to_string(PlannerStatus::kNoPath)), "no_path");
-  EXPECT_EQ(std::string(to_string(PlannerStatus::kInvalidGoal)), "invalid_goal");
+  EXPECT_EQ(std::string(to_string(planner::Status::kNoPath)), "no_path");
+  EXPECT_EQ(std::string(to_string(planner::Status::kInvalidGoal)), "invalid_goal");
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "exact_checker.hpp"
+#include "porter/planner/angle.hpp"
 #include "frontend_test_utils.hpp"
 #include "porter/frontend/frontend.hpp"
 #include "porter/frontend/hybrid_astar.hpp"
@@ -32,7 +33,7 @@ struct SceneFixture {
     return frontend.plan(scene.start, scene.goal, 600.0, seed);
   }
   void expect_valid(const FrontendResult& r) {
-    ASSERT_EQ(r.status, PlannerStatus::kSuccess) << r.message;
+    ASSERT_EQ(r.status, planner::Status::kSuccess) << r.message;
     test::PathCheckOptions opt;
     opt.turning_radius_m = radius;
     opt.start = &scene.start;
@@ -91,13 +92,13 @@ TEST(FrontendScenes, ForestChordsPassTheBaseSamplesOfAHeldArmMotionCheck) {
     HybridAStar planner(f.model, f.kernel);
     planner.set_map(f.grid);
     const HybridAStarResult r = planner.plan(f.scene.start, f.scene.goal, 600.0);
-    ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+    ASSERT_EQ(r.report.status, planner::Status::kSuccess) << r.report.message;
     int turning = 0;
     for (std::size_t i = 1; i < r.path.size(); ++i) {
       const RobotConfiguration a{r.path[i - 1].pose, f.scene.start.q_rad}, b{r.path[i].pose, f.scene.start.q_rad};
       const int n = f.kernel.motion_intervals(a, b);
       ASSERT_GE(n, 1);
-      const double dyaw = wrap_angle(b.base.yaw_rad - a.base.yaw_rad);
+      const double dyaw = planner::wrap_angle_rad(b.base.yaw_rad - a.base.yaw_rad);
       turning += std::abs(dyaw) > 1e-6;
       for (int k = 1; k < n; ++k) {
         const double t = static_cast<double>(k) / n;
@@ -113,7 +114,7 @@ TEST(FrontendScenes, ForestChordsPassTheBaseSamplesOfAHeldArmMotionCheck) {
 TEST(FrontendScenes, WalledOffGoalIsNoPathWithTheKernelChecker) {
   SceneFixture f(test::scene_from_text(test::walled_goal_scene_yaml()));
   const FrontendResult r = f.plan(1);
-  EXPECT_EQ(r.status, PlannerStatus::kNoPath) << r.message;
+  EXPECT_EQ(r.status, planner::Status::kNoPath) << r.message;
   EXPECT_TRUE(r.path.empty());
 }
 

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "exact_checker.hpp"
+#include "porter/planner/angle.hpp"
 #include "frontend_test_utils.hpp"
 #include "porter/frontend/hybrid_astar.hpp"
 #include "test_scenes.hpp"
@@ -25,10 +26,10 @@ struct Fixture {
 /// Base-path promises: exact ends, spacing, free samples and chords, turning radius, yaw tied
 /// to the driving direction.
 void expect_valid_base_path(const HybridAStarResult& r, const Fixture& f, double radius, double step) {
-  ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+  ASSERT_EQ(r.report.status, planner::Status::kSuccess) << r.report.message;
   ASSERT_GE(r.path.size(), 2u);
   auto same_pose = [](const BasePose& a, const BasePose& b) {
-    return std::abs(a.x_m - b.x_m) < 1e-9 && std::abs(a.y_m - b.y_m) < 1e-9 && std::abs(wrap_angle(a.yaw_rad - b.yaw_rad)) < 1e-9;
+    return std::abs(a.x_m - b.x_m) < 1e-9 && std::abs(a.y_m - b.y_m) < 1e-9 && std::abs(planner::wrap_angle_rad(a.yaw_rad - b.yaw_rad)) < 1e-9;
   };
   EXPECT_TRUE(same_pose(r.path.front().pose, f.scene.start.base));
   EXPECT_TRUE(same_pose(r.path.back().pose, f.scene.goal.base));
@@ -41,10 +42,10 @@ void expect_valid_base_path(const HybridAStarResult& r, const Fixture& f, double
     const double chord = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m);
     EXPECT_LE(chord, step + 1e-9) << i;
     EXPECT_GT(chord, 1e-6) << i;
-    const double dyaw = wrap_angle(b.yaw_rad - a.yaw_rad);
+    const double dyaw = planner::wrap_angle_rad(b.yaw_rad - a.yaw_rad);
     EXPECT_LE(std::abs(dyaw), 2.0 * std::asin(std::min(1.0, chord / (2.0 * radius))) + 1e-6) << i;
     const double heading = std::atan2(b.y_m - a.y_m, b.x_m - a.x_m) + (r.path[i].eta < 0 ? M_PI : 0.0);
-    EXPECT_NEAR(wrap_angle(heading - a.yaw_rad - 0.5 * dyaw), 0.0, 1e-6) << i;
+    EXPECT_NEAR(planner::wrap_angle_rad(heading - a.yaw_rad - 0.5 * dyaw), 0.0, 1e-6) << i;
     // The straight chord between the waypoints is free as well.
     for (int k = 1; k < 10; ++k) {
       const double t = k / 10.0;
@@ -96,7 +97,7 @@ TEST(HybridAStar, WalledOffGoalIsNoPath) {
   HybridAStar planner(f.model, f.exact);
   planner.set_map(f.grid);
   const HybridAStarResult r = planner.plan(f.scene.start, f.scene.goal, 10.0);
-  EXPECT_EQ(r.report.status, PlannerStatus::kNoPath);
+  EXPECT_EQ(r.report.status, planner::Status::kNoPath);
   EXPECT_TRUE(r.path.empty());
 }
 
@@ -106,12 +107,12 @@ TEST(HybridAStar, InvalidEndpointsAndTimeout) {
   planner.set_map(f.grid);
   RobotConfiguration in_wall = f.scene.start;
   in_wall.base = {2.5, -1.0, 0.0};
-  EXPECT_EQ(planner.plan(in_wall, f.scene.goal, 1.0).report.status, PlannerStatus::kInvalidStart);
-  EXPECT_EQ(planner.plan(f.scene.start, in_wall, 1.0).report.status, PlannerStatus::kInvalidGoal);
+  EXPECT_EQ(planner.plan(in_wall, f.scene.goal, 1.0).report.status, planner::Status::kInvalidStart);
+  EXPECT_EQ(planner.plan(f.scene.start, in_wall, 1.0).report.status, planner::Status::kInvalidGoal);
   const HybridAStarResult r = planner.plan(f.scene.start, f.scene.goal, 0.0);
-  EXPECT_EQ(r.report.status, PlannerStatus::kTimeout);
+  EXPECT_EQ(r.report.status, planner::Status::kTimeout);
   HybridAStar no_map(f.model, f.exact);
-  EXPECT_EQ(no_map.plan(f.scene.start, f.scene.goal, 1.0).report.status, PlannerStatus::kNoPath);
+  EXPECT_EQ(no_map.plan(f.scene.start, f.scene.goal, 1.0).report.status, planner::Status::kNoMap);
 }
 
 TEST(HybridAStar, ReverseIsUsedWhenTheGoalIsBehind) {

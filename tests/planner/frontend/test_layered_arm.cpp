@@ -24,7 +24,7 @@ ArmLayerProblem straight_problem(double x0, double x1, double dt, const JointVec
 
 void expect_valid(const LayeredArmResult& r, const ArmLayerProblem& p, const RobotModel& model,
                   const planner::CollisionChecker& checker, double speed_fraction) {
-  ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+  ASSERT_EQ(r.report.status, planner::Status::kSuccess) << r.report.message;
   ASSERT_EQ(r.q.size(), p.bases.size());
   EXPECT_EQ(r.q.front(), p.q_start);
   EXPECT_EQ(r.q.back(), p.q_goal);
@@ -106,7 +106,7 @@ TEST(LayeredArm, TooLittleTimeBetweenLayersIsNoPath) {
   ArmLayerProblem p = straight_problem(0.0, 0.25, 0.1, f.scene.start.q_rad, qg);
   LayeredArmPlanner planner(f.model, f.exact);
   const LayeredArmResult r = planner.plan(p, 10.0, 1);
-  EXPECT_EQ(r.report.status, PlannerStatus::kNoPath);
+  EXPECT_EQ(r.report.status, planner::Status::kNoPath);
   ASSERT_EQ(r.forward_q.size(), 1u);  // the frontiers are the roots
   ASSERT_EQ(r.backward_q.size(), 1u);
   EXPECT_EQ(r.forward_q[0], p.q_start);
@@ -123,7 +123,7 @@ TEST(LayeredArm, IterationCapIsATimeoutWithFrontiers) {
   s.max_iterations = 300;
   LayeredArmPlanner planner(f.model, f.exact, s);
   const LayeredArmResult r = planner.plan(p, 60.0, 1);
-  EXPECT_EQ(r.report.status, PlannerStatus::kTimeout);
+  EXPECT_EQ(r.report.status, planner::Status::kTimeout);
   EXPECT_EQ(r.report.iterations, 300);
   EXPECT_GE(r.forward_q.size(), 1u);
   EXPECT_GE(r.backward_q.size(), 1u);
@@ -139,10 +139,10 @@ TEST(LayeredArm, InvalidEndpointsAndMalformedProblems) {
   LayeredArmPlanner planner(f.model, f.exact);
   ArmLayerProblem p = straight_problem(0.0, 1.0, 0.5, f.scene.start.q_rad, f.scene.start.q_rad);
   p.bases.back() = {2.5, -1.0, 0.0};  // inside the wall
-  EXPECT_EQ(planner.plan(p, 1.0, 1).report.status, PlannerStatus::kInvalidGoal);
+  EXPECT_EQ(planner.plan(p, 1.0, 1).report.status, planner::Status::kInvalidGoal);
   p.bases.back() = {1.0, 0.0, 0.0};
   p.dt_s.pop_back();
-  EXPECT_EQ(planner.plan(p, 1.0, 1).report.status, PlannerStatus::kNoPath);
+  EXPECT_EQ(planner.plan(p, 1.0, 1).report.status, planner::Status::kNoPath);
 }
 
 TEST(LayeredArm, SameSeedSameResult) {
@@ -154,7 +154,7 @@ TEST(LayeredArm, SameSeedSameResult) {
   LayeredArmPlanner planner(f.model, f.exact);
   const LayeredArmResult a = planner.plan(p, 60.0, 5);
   const LayeredArmResult b = planner.plan(p, 60.0, 5);
-  ASSERT_EQ(a.report.status, PlannerStatus::kSuccess);
+  ASSERT_EQ(a.report.status, planner::Status::kSuccess);
   ASSERT_EQ(a.q.size(), b.q.size());
   for (std::size_t i = 0; i < a.q.size(); ++i) EXPECT_EQ(a.q[i], b.q[i]);
   EXPECT_EQ(a.report.iterations, b.report.iterations);

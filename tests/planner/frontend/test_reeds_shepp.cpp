@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "porter/frontend/reeds_shepp.hpp"
+#include "porter/planner/angle.hpp"
 
 namespace porter::frontend {
 namespace {
@@ -37,7 +38,7 @@ TEST(ReedsShepp, ShortestReachesTheGoalExactly) {
     const BasePose end = rs_pose_at(from, path, path.length_m);
     EXPECT_NEAR(end.x_m, to.x_m, 1e-6);
     EXPECT_NEAR(end.y_m, to.y_m, 1e-6);
-    EXPECT_NEAR(wrap_angle(end.yaw_rad - to.yaw_rad), 0.0, 1e-6);
+    EXPECT_NEAR(planner::wrap_angle_rad(end.yaw_rad - to.yaw_rad), 0.0, 1e-6);
     EXPECT_NEAR(rs.distance(from, to), path.length_m, 1e-12);
     EXPECT_NEAR(rs.distance(to, from), path.length_m, 1e-9);  // Reeds–Shepp length is symmetric
   }
@@ -60,7 +61,7 @@ TEST(ReedsShepp, SamplesAreCloseIncludeCuspsAndRespectTheRadius) {
     const double chord = std::hypot(b.x_m - a.x_m, b.y_m - a.y_m);
     EXPECT_LE(chord, 0.1 + 1e-9);
     EXPECT_GT(chord, 0.0);
-    const double dyaw = std::abs(wrap_angle(b.yaw_rad - a.yaw_rad));
+    const double dyaw = std::abs(planner::wrap_angle_rad(b.yaw_rad - a.yaw_rad));
     EXPECT_LE(dyaw, 2.0 * std::asin(std::min(1.0, chord / 0.8)) + 1e-9);
     if (i > 1 && samples[i].eta != samples[i - 1].eta) ++changes;
   }

@@ -37,7 +37,7 @@ TEST(WholeBodyRrt, SidewaysGoalWithArmChange) {
   goal.q_rad[0] = 0.8;
   WholeBodyRrt rrt(f.model, f.exact, 0.4, f.box);
   const WholeBodyRrtResult r = rrt.plan(f.scene.start, goal, 60.0, 2);
-  ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+  ASSERT_EQ(r.report.status, planner::Status::kSuccess) << r.report.message;
   EXPECT_GT(r.cost, std::hypot(1.5, 1.2) - 1e-9);
   test::PathCheckOptions opt;
   opt.start = &f.scene.start;
@@ -53,7 +53,7 @@ TEST(WholeBodyRrt, PureArmMotionKeepsTheBase) {
   goal.q_rad[5] = 1.0;
   WholeBodyRrt rrt(f.model, f.exact, 0.4, f.box);
   const WholeBodyRrtResult r = rrt.plan(f.scene.start, goal, 60.0, 2);
-  ASSERT_EQ(r.report.status, PlannerStatus::kSuccess) << r.report.message;
+  ASSERT_EQ(r.report.status, planner::Status::kSuccess) << r.report.message;
   test::PathCheckOptions opt;
   opt.start = &f.scene.start;
   opt.goal = &goal;
@@ -67,13 +67,13 @@ TEST(WholeBodyRrt, BudgetAndInvalidEndpoints) {
   s.max_iterations = 50;
   WholeBodyRrt rrt(f.model, f.exact, 0.4, f.box, s);
   const WholeBodyRrtResult r = rrt.plan(f.scene.start, f.scene.goal, 60.0, 1);
-  EXPECT_EQ(r.report.status, PlannerStatus::kTimeout);  // enclosed goal: the cap ends it
+  EXPECT_EQ(r.report.status, planner::Status::kTimeout);  // enclosed goal: the cap ends it
   EXPECT_EQ(r.report.iterations, 50);
   EXPECT_TRUE(r.path.empty());
   RobotConfiguration in_wall = f.scene.start;
   in_wall.base = {3.5, 0.0, 0.0};
-  EXPECT_EQ(rrt.plan(in_wall, f.scene.goal, 1.0, 1).report.status, PlannerStatus::kInvalidStart);
-  EXPECT_EQ(rrt.plan(f.scene.start, in_wall, 1.0, 1).report.status, PlannerStatus::kInvalidGoal);
+  EXPECT_EQ(rrt.plan(in_wall, f.scene.goal, 1.0, 1).report.status, planner::Status::kInvalidStart);
+  EXPECT_EQ(rrt.plan(f.scene.start, in_wall, 1.0, 1).report.status, planner::Status::kInvalidGoal);
 }
 
 TEST(WholeBodyRrt, SameSeedSamePath) {
@@ -83,7 +83,7 @@ TEST(WholeBodyRrt, SameSeedSamePath) {
   WholeBodyRrt rrt(f.model, f.exact, 0.4, f.box);
   const WholeBodyRrtResult a = rrt.plan(f.scene.start, goal, 60.0, 9);
   const WholeBodyRrtResult b = rrt.plan(f.scene.start, goal, 60.0, 9);
-  ASSERT_EQ(a.report.status, PlannerStatus::kSuccess);
+  ASSERT_EQ(a.report.status, planner::Status::kSuccess);
   ASSERT_EQ(a.path.size(), b.path.size());
   for (std::size_t i = 0; i < a.path.size(); ++i) EXPECT_TRUE(test::same_config(a.path[i].config, b.path[i].config, 0.0));
 }

@@ -1,6 +1,7 @@
 // Diff-drive rates: gradients against central differences, values against porter::Trajectory's
 // independent implementation (core), and the rest-state guard (no NaN).
 #include "porter/midend/diff_drive.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <random>
 
@@ -65,7 +66,7 @@ TEST(DiffDrive, HeadingGradientMatchesCentralDifference) {
       Eigen::Vector2d vp = v, vm = v, dummy;
       vp[k] += 1e-7;
       vm[k] -= 1e-7;
-      const double fd = angle_difference(heading_from_velocity(vp, eta, &dummy),
+      const double fd = planner::angle_difference_rad(heading_from_velocity(vp, eta, &dummy),
                                          heading_from_velocity(vm, eta, &dummy)) / 2e-7;
       EXPECT_NEAR(g[k], fd, 1e-6);
     }
@@ -98,7 +99,7 @@ TEST(DiffDrive, MatchesCoreTrajectoryAwayFromRest) {
     EXPECT_NEAR(r.yaw_rate, st.base.yaw_rate_radps, 1e-8);
     EXPECT_NEAR(r.yaw_accel, st.base.yaw_accel_radps2, 1e-7);
     Eigen::Vector2d dphi;
-    EXPECT_NEAR(angle_difference(heading_from_velocity(v.head<2>(), piece.eta, &dphi), st.base.yaw_rad), 0.0, 1e-12);
+    EXPECT_NEAR(planner::angle_difference_rad(heading_from_velocity(v.head<2>(), piece.eta, &dphi), st.base.yaw_rad), 0.0, 1e-12);
     const double half = 0.5 * track;
     EXPECT_NEAR((piece.eta * r.speed - half * r.yaw_rate) / radius, st.wheels.left_radps, 1e-7);
     EXPECT_NEAR((piece.eta * r.accel + half * r.yaw_accel) / radius, st.wheels.right_radps2, 1e-6);
@@ -117,9 +118,9 @@ TEST(DiffDrive, RestIsFinite) {
 }
 
 TEST(DiffDrive, AngleDifferenceWraps) {
-  EXPECT_NEAR(angle_difference(3.1, -3.1), 3.1 + 3.1 - 2 * M_PI, 1e-12);
-  EXPECT_NEAR(angle_difference(-3.1, 3.1), 2 * M_PI - 6.2, 1e-12);
-  EXPECT_NEAR(angle_difference(0.5, 0.2), 0.3, 1e-12);
+  EXPECT_NEAR(planner::angle_difference_rad(3.1, -3.1), 3.1 + 3.1 - 2 * M_PI, 1e-12);
+  EXPECT_NEAR(planner::angle_difference_rad(-3.1, 3.1), 2 * M_PI - 6.2, 1e-12);
+  EXPECT_NEAR(planner::angle_difference_rad(0.5, 0.2), 0.3, 1e-12);
 }
 
 }  // namespace

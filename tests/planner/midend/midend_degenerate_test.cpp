@@ -1,11 +1,12 @@
-// Degenerate and invalid inputs: a result or a clear status, never NaN; the direct-execution
-// hook; budget and iteration-cap statuses.
+// Degenerate and invalid inputs: a result or a clear status, never NaN; the solution the mid-end
+// hands the back-end; budget, cancellation and iteration-cap statuses.
 #include <cmath>
 
 #include <gtest/gtest.h>
 
 #include "porter/midend/lbfgs_codes.hpp"
 #include "porter/midend/midend.hpp"
+#include "porter/midend/midend_problem.hpp"
 #include "synthetic_paths.hpp"
 #include "trajectory_checks.hpp"
 
@@ -79,7 +80,7 @@ TEST(MidendDegenerate, AllNodesCoincideGivesStationaryTrajectory) {
   planner::WholeBodyPath p;
   p.segments = {{1, {node(1, 2, 0.5, 0), node(1, 2, 0.5, 1)}}};
   const MidendResult r = make_midend().solve(p, 0.1);
-  ASSERT_EQ(r.status, MidendStatus::kTrivialPath) << r.message;
+  ASSERT_EQ(r.status, planner::Status::kTrivialPath) << r.message;
   ASSERT_TRUE(r.ok());
   EXPECT_NEAR(r.trajectory->position(0.0)[0], 1.0, 1e-12);
   EXPECT_NEAR(r.trajectory->position(r.trajectory->total_duration_s())[1], 2.0, 1e-12);
@@ -90,81 +91,84 @@ TEST(MidendDegenerate, AllNodesCoincideGivesStationaryTrajectory) {
 TEST(MidendDegenerate, InvalidInputsHaveClearStatus) {
   const MidEnd m = make_midend();
   MidendResult r = m.solve({}, 0.1);
-  EXPECT_EQ(r.status, MidendStatus::kInvalidInput);
+  EXPECT_EQ(r.status, planner::Status::kInvalidInput);
   EXPECT_FALSE(r.ok());
   EXPECT_FALSE(r.message.empty());
 
   planner::WholeBodyPath p;
   p.segments = {{1, {node(0, 0, 0, 0), node(std::nan(""), 0, 0, 1)}}};
   r = m.solve(p, 0.1);
-  EXPECT_EQ(r.status, MidendStatus::kInvalidInput);
+  EXPECT_EQ(r.status, planner::Status::kInvalidInput);
   EXPECT_NE(r.message.find("non-finite"), std::string::npos);
 
   p.segments = {{0, {node(0, 0, 0, 0), node(1, 0, 0, 1)}}};
-  EXPECT_EQ(m.solve(p, 0.1).status, MidendStatus::kInvalidInput);
+  EXPECT_EQ(m.solve(p, 0.1).status, planner::Status::kInvalidInput);
 }
 
 TEST(MidendDegenerate, InvalidRobotLimits) {
   RobotModel robot = testing::scout_mini_piper_model();
   robot.base.wheel_radius_m = 0.0;
   const MidendResult r = MidEnd(robot).solve(testing::forward_with_turn(), 0.1);
-  EXPECT_EQ(r.status, MidendStatus::kInvalidRobotLimits);
+  EXPECT_EQ(r.status, planner::Status::kInvalidRobotLimits);
   EXPECT_NE(r.message.find("wheel_radius"), std::string::npos);
   robot = testing::scout_mini_piper_model();
   robot.joints[2].upper_rad = robot.joints[2].lower_rad;
-  EXPECT_EQ(MidEnd(robot).solve(testing::forward_with_turn(), 0.1).status, MidendStatus::kInvalidRobotLimits);
+  EXPECT_EQ(MidEnd(robot).solve(testing::forward_with_turn(), 0.1).status, planner::Status::kInvalidRobotLimits);
 }
 
 TEST(MidendDegenerate, InvalidSettings) {
   MidendSettings s;
   s.samples_per_piece = 1;
   const MidendResult r = make_midend(s).solve(testing::forward_with_turn(), 0.1);
-  EXPECT_EQ(r.status, MidendStatus::kInvalidInput);
+  EXPECT_EQ(r.status, planner::Status::kInvalidInput);
   EXPECT_NE(r.message.find("samples_per_piece"), std::string::npos);
-  for (const double rest : {-0.1, 1.3}) {  // 0 (off) or in (0, densify_factor = 1.2]
-    MidendSettings t;
-    t.rest_densify_factor = rest;
-    const MidendResult q = make_midend(t).solve(testing::forward_with_turn(), 0.1);
-    EXPECT_EQ(q.status, MidendStatus::kInvalidInput) << rest;
-    EXPECT_NE(q.message.find("rest_densify_factor"), std::string::npos) << q.message;
-  }
 }
 
-TEST(MidendExecution, ValidatorDecidesDirectExecution) {
+TEST(MidendSolution, TheSolutionDescribesTheReturnedTrajectory) {
   const MidEnd m = make_midend();
-  int calls = 0;
-  double seen_duration = 0.0;
-  MidendResult r = m.solve(testing::forward_with_turn(), 5.0, [&](const Trajectory& t) {
-    ++calls;
-    seen_duration = t.total_duration_s();
-    return true;
-  });
+  const MidendResult r = m.solve(testing::forward_with_turn(), 5.0);
   ASSERT_TRUE(r.ok());
-  EXPECT_EQ(calls, 1);
-  EXPECT_EQ(r.execution, Execution::kDirect);
-  EXPECT_DOUBLE_EQ(seen_duration, r.trajectory->total_duration_s());
-  EXPECT_GE(r.validate_s, 0.0);
-  EXPECT_GE(r.elapsed_s, r.optimize_s);
+  ASSERT_TRUE(r.solution.has_value());
+  // The same problem at the handed-over decision vector gives the returned trajectory.
+  MidendProblem problem(r.solution->reference, m.limits(), r.solution->settings);
+  ASSERT_EQ(r.solution->x.size(), problem.num_variables());
+  const std::vector<TrajectoryPiece> pieces = problem.pieces(r.solution->x.data());
+  ASSERT_EQ(static_cast<int>(pieces.size()), r.trajectory->num_pieces());
+  for (int i = 0; i < r.trajectory->num_pieces(); ++i) {
+    EXPECT_NEAR(pieces[static_cast<std::size_t>(i)].duration_s, r.trajectory->piece(i).duration_s, 1e-9);
+    EXPECT_LT((pieces[static_cast<std::size_t>(i)].coeffs - r.trajectory->piece(i).coeffs).norm(),
+              1e-6 * (1.0 + r.trajectory->piece(i).coeffs.norm()));
+  }
+  // ... and solution_for() recovers it from the path and the trajectory alone.
+  const std::optional<MidendSolution> again = m.solution_for(testing::forward_with_turn(), *r.trajectory);
+  ASSERT_TRUE(again.has_value());
+  EXPECT_LT((again->x - r.solution->x).norm(), 1e-9 * (1.0 + r.solution->x.norm()));
+  EXPECT_GE(r.elapsed_s, r.optimize_s + r.prepare_s);
+  // No solution without a problem to solve.
+  const MidendResult empty = m.solve({}, 5.0);
+  EXPECT_FALSE(empty.solution.has_value());
+}
 
-  r = m.solve(testing::forward_with_turn(), 5.0, [](const Trajectory&) { return false; });
-  EXPECT_EQ(r.execution, Execution::kNeedsBackend);
-
-  calls = 0;
-  r = m.solve({}, 5.0, [&](const Trajectory&) { return ++calls, true; });
-  EXPECT_EQ(calls, 0);  // nothing to validate
-  EXPECT_EQ(r.execution, Execution::kNotChecked);
+TEST(MidendExecution, ACanceledDeadlineStopsTheSolveWithoutATrajectory) {
+  planner::CancelFlag cancel;
+  cancel.request();
+  const MidendResult r = make_midend().solve(testing::forest_slalom(50), planner::Deadline(60.0, &cancel));
+  EXPECT_EQ(r.status, planner::Status::kCanceled) << r.message;
+  EXPECT_FALSE(r.trajectory.has_value());
+  EXPECT_FALSE(r.solution.has_value());
+  EXPECT_LE(r.iterations, 1);
 }
 
 TEST(MidendExecution, TimeBudgetAndIterationCapReturnTheLastIterate) {
   MidendResult r = make_midend().solve(testing::forest_slalom(50), 1e-6);
-  EXPECT_EQ(r.status, MidendStatus::kTimeBudgetExceeded) << r.message;
+  EXPECT_EQ(r.status, planner::Status::kTimeout) << r.message;
   EXPECT_TRUE(r.ok());
   EXPECT_LE(r.iterations, 1);
 
   MidendSettings s;
   s.max_iterations = 3;
   r = make_midend(s).solve(testing::forward_with_turn(), 5.0);
-  EXPECT_TRUE(r.status == MidendStatus::kIterationLimit || r.status == MidendStatus::kConvergedWithWarning)
+  EXPECT_TRUE(r.status == planner::Status::kIterationLimit || r.status == planner::Status::kConvergedWithWarning)
       << to_string(r.status);
   EXPECT_TRUE(r.ok());
   EXPECT_LE(r.iterations, 3);
@@ -172,11 +176,11 @@ TEST(MidendExecution, TimeBudgetAndIterationCapReturnTheLastIterate) {
 }
 
 TEST(MidendStatusStrings, EveryValueHasAName) {
-  for (MidendStatus st : {MidendStatus::kConverged, MidendStatus::kConvergedWithWarning,
-                          MidendStatus::kIterationLimit, MidendStatus::kTimeBudgetExceeded,
-                          MidendStatus::kTrivialPath, MidendStatus::kInvalidInput,
-                          MidendStatus::kInvalidRobotLimits, MidendStatus::kNumericalFailure,
-                          MidendStatus::kOptimizerFailed}) {
+  for (planner::Status st : {planner::Status::kConverged, planner::Status::kConvergedWithWarning,
+                          planner::Status::kIterationLimit, planner::Status::kTimeout,
+                          planner::Status::kTrivialPath, planner::Status::kInvalidInput,
+                          planner::Status::kInvalidRobotLimits, planner::Status::kNumericalFailure,
+                          planner::Status::kOptimizerFailed, planner::Status::kCanceled}) {
     EXPECT_STRNE(to_string(st), "unknown");
   }
   EXPECT_STREQ(lbfgs_code_to_string(12345), "unknown lbfgs code");

@@ -1,6 +1,7 @@
 // Every analytic gradient of the mid-end cost (each term separately and all together, on
 // waypoints, times and gear-switch variables) against central finite differences, at random
 // points around synthetic front-end paths where the penalties are active.
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -56,12 +57,13 @@ double rel(const Eigen::VectorXd& a, const Eigen::VectorXd& b, double floor = 1e
   return (a - b).norm() / scale;
 }
 
-void check(const planner::WholeBodyPath& path, unsigned seed, const char* label, bool require_active = true) {
+void check(const planner::WholeBodyPath& path, unsigned seed, const char* label, bool require_active = true,
+           const StartDerivatives& start = {}) {
   MidendSettings settings;
   settings.residual_base_bound_m = 0.25;
   settings.residual_arm_bound_rad = 0.2;
   const MidendLimits limits = tight_limits();
-  ReferenceBuild ref = build_reference_path(path, limits, settings);
+  ReferenceBuild ref = build_reference_path(path, limits, settings, start);
   ASSERT_EQ(ref.outcome, ReferenceOutcome::kOk);
   MidendProblem problem(ref.path, limits, settings);
   const int n = problem.num_variables();
@@ -172,6 +174,16 @@ TEST(MidendGradient, StillEndsWithRestJunctions) {
   EXPECT_TRUE(ref.path.segments.front().base_still);
   EXPECT_TRUE(ref.path.segments.back().base_still);
   check(path, 15, "still_ends", false);  // the rest boundaries are inside, not at t = 0 and the goal
+}
+TEST(MidendGradient, MovingStart) {
+  // A hand-off while moving: the base leaves the first node at 0.4 m/s along its heading and
+  // accelerating, the arm turning; the first piece has no rest-boundary terms then.
+  const planner::WholeBodyPath path = testing::forward_with_turn();
+  const double yaw = path.segments.front().nodes.front().config.base.yaw_rad;
+  StartDerivatives start;
+  start.velocity << 0.4 * std::cos(yaw), 0.4 * std::sin(yaw), 0.1, -0.05, 0.0, 0.08, 0.0, 0.0;
+  start.acceleration << 0.2 * std::cos(yaw), 0.2 * std::sin(yaw), 0.0, 0.05, -0.02, 0.0, 0.0, 0.0;
+  check(path, 16, "moving_start", false, start);
 }
 TEST(MidendGradient, TwoNodes) {
   testing::PathBuilder b({0.0, 0.0, 0.2}, testing::carry_pose(), 2.0);

@@ -1,4 +1,4 @@
-// The mid-end on real front-end paths (issue 5, "Checked"): porter::frontend::FrontEnd plans on
+// The mid-end on real front-end paths: porter::frontend::FrontEnd plans on
 // the shipped bridge, tunnel and forest scenes (kernel checker, as porter-plan), the mid-end
 // optimizes the path, and the trajectory is checked at 1 ms through porter::Trajectory (core's
 // evaluation and wheel kinematics, not the mid-end's formulas): boundary states exact, C2 at
@@ -42,7 +42,7 @@ TEST_P(MidendSceneTest, RealFrontendPathMeetsEveryCheckedProperty) {
   const MidEnd midend(testing::shipped_robot(""), settings);
   const MidendResult r = midend.solve(path, 10.0);
   ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
-  EXPECT_TRUE(r.status == MidendStatus::kConverged || r.status == MidendStatus::kConvergedWithWarning)
+  EXPECT_TRUE(r.status == planner::Status::kConverged || r.status == planner::Status::kConvergedWithWarning)
       << to_string(r.status) << ": " << r.message;
   EXPECT_LT(r.final_cost.total(), r.initial_cost.total());
 

@@ -1,5 +1,5 @@
 // Regression: the front-end reaches the goal with a last edge that moves the base ~2.5 mm while
-// the arm turns ~0.9 rad (forest seeds 6 and 9 of the issue-5 benchmark). Timed by the arm, the
+// the arm turns ~0.9 rad (forest seeds 6 and 9 of scripts/bench-midend). Timed by the arm, the
 // edge asked the base to creep; the quintic entering it at speed overshot the goal and reversed
 // inside the segment, and the result broke the wheel and yaw checks while reporting "converged".
 // Now the tail is a still segment (reference_path.hpp, step 5b): the base comes to rest at the
@@ -80,7 +80,7 @@ void expect_still_end(bool creep_at_start) {
 
   const MidendResult r = midend.solve(path, 10.0);
   ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
-  EXPECT_TRUE(r.status == MidendStatus::kConverged || r.status == MidendStatus::kConvergedWithWarning)
+  EXPECT_TRUE(r.status == planner::Status::kConverged || r.status == planner::Status::kConvergedWithWarning)
       << to_string(r.status);
   const testing::CheckReport k = testing::check_trajectory(*r.trajectory, path, midend.limits(), midend.settings());
   const std::vector<std::string> v = testing::violations(k);
@@ -100,7 +100,7 @@ TEST(MidendStillEnd, CreepingLastEdgeRestsTheBaseAtTheGoalWhileTheArmFinishes) {
 
 TEST(MidendStillEnd, CreepingFirstAndLastEdges) { expect_still_end(true); }
 
-// Regression (tunnel seed 13 of the issue-5 benchmark): the arm finishes at the goal with a
+// Regression (tunnel seed 13 of scripts/bench-midend): the arm finishes at the goal with a
 // 1.64 rad turn of joint 4 over 5 cm of base path, densified into four 0.41 rad edges. Timed at
 // constant joint speed, those edges had equal durations, so the node before the goal sat at
 // 3/4 of the still tail's time while the arm, braking to rest, got there much earlier and then
@@ -210,7 +210,7 @@ TEST(MidendStillEnd, VerificationRejectsAGrossViolation) {
   settings.max_iterations = 2;
   const MidEnd midend(limits, settings);
   const MidendResult r = midend.solve(creeping_path(false), 10.0);
-  EXPECT_EQ(r.status, MidendStatus::kConstraintViolation) << to_string(r.status) << ": " << r.message;
+  EXPECT_EQ(r.status, planner::Status::kConstraintViolation) << to_string(r.status) << ": " << r.message;
   EXPECT_FALSE(r.ok());
   EXPECT_FALSE(r.trajectory.has_value());
   EXPECT_NE(r.message.find("rejected"), std::string::npos) << r.message;

@@ -85,47 +85,6 @@ TEST(ReferencePath, JoinsSegmentsThatDoNotShareTheirSwitchNode) {
   EXPECT_EQ(b.path.segments[1].eta, -1);
 }
 
-// rest_densify_factor: the sub-edges touching the start and the goal (rest instants) are split
-// again into parts of at most rest_densify_factor * rho; interior sub-edges keep the normal step,
-// and a gear switch (the base keeps v_ns) is not a rest instant. 0 (default) changes nothing.
-TEST(ReferencePath, RestDensificationSplitsOnlyTheSubEdgesTouchingRest) {
-  MidendSettings s;
-  s.residual_base_bound_m = 0.2;
-  planner::WholeBodyPath p;
-  p.segments = {{1, {node(0, 0, 0, 0), node(3.0, 0, 0, 1)}}, {-1, {node(3.0, 0, 0, 1), node(1.2, 0, 0, 2)}}};
-  const ReferenceBuild off = build_reference_path(p, limits(), s);
-  ASSERT_EQ(off.outcome, ReferenceOutcome::kOk);
-  ASSERT_EQ(off.path.segments.size(), 2u);
-  EXPECT_EQ(off.path.segments[0].nodes.size(), 14u);  // 13 sub-edges of 3 / 13 m (0.23 m <= 0.24 m)
-  EXPECT_EQ(off.path.segments[1].nodes.size(), 9u);   // 8 sub-edges of 0.225 m
-
-  s.rest_densify_factor = 0.6;  // 0.12 m: a 0.23 m sub-edge next to rest becomes two
-  const ReferenceBuild on = build_reference_path(p, limits(), s);
-  ASSERT_EQ(on.outcome, ReferenceOutcome::kOk);
-  const auto& fwd = on.path.segments[0].nodes;
-  const auto& rev = on.path.segments[1].nodes;
-  ASSERT_EQ(fwd.size(), 15u);  // start split, gear-switch end not
-  ASSERT_EQ(rev.size(), 10u);  // gear-switch start not, goal split
-  const double d = 3.0 / 13;
-  EXPECT_NEAR(fwd[1].base.x_m, 0.5 * d, 1e-12);
-  EXPECT_NEAR(fwd[2].base.x_m, d, 1e-12);
-  for (std::size_t i = 3; i < fwd.size(); ++i) EXPECT_NEAR(fwd[i].base.x_m - fwd[i - 1].base.x_m, d, 1e-12);
-  EXPECT_EQ(fwd.back().base.x_m, 3.0);
-  for (std::size_t i = 1; i + 2 < rev.size(); ++i) EXPECT_NEAR(rev[i - 1].base.x_m - rev[i].base.x_m, 0.225, 1e-12);
-  EXPECT_NEAR(rev[rev.size() - 2].base.x_m, 1.2 + 0.1125, 1e-12);
-  EXPECT_EQ(rev.back().base.x_m, 1.2);
-  // Each piece still spans whole edges and the node fractions stay strictly inside (0, 1).
-  for (const ReferenceSegment& seg : on.path.segments) {
-    EXPECT_EQ(seg.knots.back(), static_cast<int>(seg.nodes.size()) - 1);
-    for (int q = 0; q < seg.num_pieces(); ++q) {
-      for (int k = 1; k < seg.edges_in_piece(q); ++k) {
-        EXPECT_GT(seg.fraction_in_piece(q, k), seg.fraction_in_piece(q, k - 1));
-        EXPECT_LT(seg.fraction_in_piece(q, k), 1.0);
-      }
-    }
-  }
-}
-
 TEST(ReferencePath, DensifiesLongEdges) {
   MidendSettings s;
   s.residual_base_bound_m = 0.2;

@@ -41,7 +41,7 @@ std::optional<ScenePath> frontend_path(const std::string& scene_name, std::uint6
   frontend::FrontEnd fe(model, checker);
   fe.set_map(grid);
   const frontend::FrontendResult r = fe.plan(scene.start, scene.goal, budget_s, scene.seed);
-  if (r.status != frontend::PlannerStatus::kSuccess) return std::nullopt;
+  if (r.status != planner::Status::kSuccess) return std::nullopt;
   ScenePath out;
   out.scene = scene_name;
   out.seed = seed;

@@ -1,4 +1,5 @@
 #include "trajectory_checks.hpp"
+#include "porter/planner/angle.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -63,9 +64,9 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
                                  traj.velocity(total).cwiseAbs().maxCoeff(),
                                  traj.acceleration(total).cwiseAbs().maxCoeff()});
     r.start_heading_error_rad =
-        std::abs(angle_difference(traj.yaw_rad(0.0), first.base.yaw_rad));
+        std::abs(planner::angle_difference_rad(traj.yaw_rad(0.0), first.base.yaw_rad));
     r.goal_heading_error_rad =
-        std::abs(angle_difference(traj.yaw_rad(total), last.base.yaw_rad));
+        std::abs(planner::angle_difference_rad(traj.yaw_rad(total), last.base.yaw_rad));
   }
 
   // Segment of every piece: from the reference when it matches, else from eta changes.
@@ -125,7 +126,7 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
       r.gear_error = std::max(r.gear_error, e);
       const double tg = traj.piece_start_time_s(i + 1);
       r.max_gear_yaw_jump_rad = std::max(
-          r.max_gear_yaw_jump_rad, std::abs(angle_difference(traj.yaw_rad(tg + 1e-6), traj.yaw_rad(tg - 1e-6))));
+          r.max_gear_yaw_jump_rad, std::abs(planner::angle_difference_rad(traj.yaw_rad(tg + 1e-6), traj.yaw_rad(tg - 1e-6))));
     }
   }
 
@@ -147,7 +148,7 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
       r.finite = false;
       continue;
     }
-    r.max_yaw_step_rad = std::max(r.max_yaw_step_rad, std::abs(angle_difference(st.base.yaw_rad, prev_yaw)));
+    r.max_yaw_step_rad = std::max(r.max_yaw_step_rad, std::abs(planner::angle_difference_rad(st.base.yaw_rad, prev_yaw)));
     {
       const int seg = piece_segment[static_cast<std::size_t>(st.piece)];
       const Eigen::Vector2d v = st.z_dot.head<2>();
@@ -193,7 +194,7 @@ CheckReport check_trajectory(const Trajectory& traj, const planner::WholeBodyPat
       double best_b = 1e300, best_m = 1e300;
       for (const RobotConfiguration* node : nodes) {
         const double dx = st.z[0] - node->base.x_m, dy = st.z[1] - node->base.y_m;
-        const double dyaw = angle_difference(st.base.yaw_rad, node->base.yaw_rad);
+        const double dyaw = planner::angle_difference_rad(st.base.yaw_rad, node->base.yaw_rad);
         const double eb = dx * dx + dy * dy + settings.residual_yaw_weight_m2 * dyaw * dyaw;
         best_b = std::min(best_b, eb);
         best_m = std::min(best_m, (st.z.tail<6>() - node->q_rad).squaredNorm());

@@ -1,4 +1,4 @@
-// porter-midend-check: checks porter-plan result files against the issue-5 properties
+// porter-midend-check: checks porter-plan result files against the mid-end's trajectory properties
 // (trajectory_checks.hpp, the same thresholds as the scene tests), optionally re-solving the
 // mid-end on the recorded front-end path. For scripts/bench-midend and offline diagnosis.
 //
@@ -69,7 +69,6 @@ bool set_field(MidendSettings& s, const std::string& kv) {
       {"weight_residual_base", &s.weight_residual_base}, {"weight_residual_arm", &s.weight_residual_arm},
       {"still_max_base_m", &s.still_max_base_m}, {"restart_min_decrease", &s.restart_min_decrease},
       {"penalty_smoothing", &s.penalty_smoothing}, {"densify_factor", &s.densify_factor},
-      {"rest_densify_factor", &s.rest_densify_factor},
       {"piece_duration_ratio", &s.piece_duration_ratio},
       {"residual_penalty_fraction", &s.residual_penalty_fraction},
       {"yaw_gate_speed_mps", &s.yaw_gate_speed_mps}, {"weight_min_speed", &s.weight_min_speed},

@@ -7,8 +7,8 @@
 // the mid-end hands the SafetyTerm the trajectory a decision vector describes, takes back the
 // partials with respect to every piece's coefficients and duration (TrajectoryGradient: t* held
 // fixed, earlier durations shifted) and propagates them through its own MINCO adjoint, time map
-// (T = exp(sigma) T(tau)) and gear-state mapping. Nothing here knows the decision-vector layout
-// except the warm start (warm_start.hpp), whose result is verified against the mid-end's own map.
+// (T = exp(sigma) T(tau)) and gear-state mapping. Nothing here knows the decision-vector layout:
+// the warm start is the mid-end's own decision vector (midend::MidendSolution).
 //
 // Cost split: BackendCost::midend is the mid-end's breakdown, whose `extra` is J_s (+ J_self with a
 // SelfCollisionTerm, both times the safety scale); `safety` and `self_collision` repeat them
@@ -60,10 +60,6 @@ class BackendProblem {
   /// The underlying problem (term masks for tests: kTermExtra alone is J_s).
   midend::MidendProblem& midend() { return midend_; }
 
-  /// The decision vector of `trajectory` (the mid-end's result for the same path and settings):
-  /// false when the piece structure differs or when the mid-end does not map x back to the same
-  /// pieces (within 1e-6 relative).
-  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x);
 
   /// Cost and gradient (size num_variables(), when non-null); +infinity (gradient zeroed) when the
   /// mid-end problem is unusable at x or J_s is not finite. When the mid-end terms alone exceed

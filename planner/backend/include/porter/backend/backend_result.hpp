@@ -7,40 +7,11 @@
 
 #include "porter/backend/backend_problem.hpp"
 #include "porter/core/trajectory.hpp"
+#include "porter/planner/status.hpp"
 
 namespace porter::backend {
 
-enum class BackendStatus {
-  kConverged,             ///< relative cost decrease below the tolerance (or early safe stop)
-  kConvergedWithWarning,  ///< line search stalled after the cost decreased; last iterate returned
-  kIterationLimit,        ///< iteration cap; last iterate returned
-  kTimeBudgetExceeded,    ///< time budget; last accepted iterate returned
-  kInvalidInput,          ///< bad path, settings or limits; no trajectory
-  kWarmStartMismatch,     ///< the warm start does not have the problem's piece structure
-  kNumericalFailure,      ///< non-finite cost/gradient or singular MINCO; no trajectory
-  kOptimizerFailed,       ///< liblbfgs failed without decreasing the cost; no trajectory
-};
-
-inline const char* to_string(BackendStatus s) {
-  switch (s) {
-    case BackendStatus::kConverged: return "converged";
-    case BackendStatus::kConvergedWithWarning: return "converged with warning (line search stalled after cost decrease)";
-    case BackendStatus::kIterationLimit: return "iteration limit reached";
-    case BackendStatus::kTimeBudgetExceeded: return "time budget exceeded";
-    case BackendStatus::kInvalidInput: return "invalid input";
-    case BackendStatus::kWarmStartMismatch: return "warm start does not match the problem";
-    case BackendStatus::kNumericalFailure: return "numerical failure";
-    case BackendStatus::kOptimizerFailed: return "optimizer failed";
-  }
-  return "unknown";
-}
-
-inline bool has_trajectory(BackendStatus s) {
-  return s == BackendStatus::kConverged || s == BackendStatus::kConvergedWithWarning ||
-         s == BackendStatus::kIterationLimit || s == BackendStatus::kTimeBudgetExceeded;
-}
-
-/// The final re-check by the kernel motion check (CollisionChecker::check_trajectory).
+/// The final re-check by the acceptance test (planner/trajectory_acceptance.hpp).
 enum class SafetyCheck { kNotChecked, kCollisionFree, kInCollision };
 
 inline const char* to_string(SafetyCheck c) {
@@ -53,7 +24,7 @@ inline const char* to_string(SafetyCheck c) {
 }
 
 struct BackendResult {
-  BackendStatus status = BackendStatus::kInvalidInput;
+  planner::Status status = planner::Status::kInvalidInput;
   std::string message;
   std::optional<Trajectory> trajectory;
   SafetyCheck check = SafetyCheck::kNotChecked;
@@ -61,6 +32,7 @@ struct BackendResult {
   std::string safety_term;          ///< SafetyTerm::name()
 
   double elapsed_s = 0.0;           ///< whole solve(), re-check included
+  double prepare_s = 0.0;           ///< problem, warm start and SafetyTerm::prepare (part of elapsed_s)
   double optimize_s = 0.0;          ///< L-BFGS
   double safety_s = 0.0;            ///< inside SafetyTerm::evaluate (part of optimize_s)
   double self_collision_s = 0.0;    ///< inside SelfCollisionTerm::evaluate (part of optimize_s)

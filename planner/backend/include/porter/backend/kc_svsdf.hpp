@@ -14,7 +14,7 @@
 //     G += escape_j, stop; else r -= g_j(y*).
 // `escape_j` only has entries on the joints that move link j, so G[0:j] += escape_j as in the paper.
 //
-// Choices where the paper is silent or inconsistent (see also the report of issue 6):
+// Choices where the paper is silent or inconsistent:
 //  - Sign of the inside escape. Outside, -J^T grad g is the joint motion that moves the link away
 //    from p (increases g). Inside, the nearest boundary is at y*, and the link frees p by moving
 //    away from y*: J^T (p - y*). The paper writes J^T (y* - p), which points the other way (in 1-D:
@@ -37,7 +37,7 @@
 // with dg_k the envelope-theorem gradient of g_j at y_k (svsdf.hpp). A saturated D has no gradient;
 // then g_j(p)'s is used so that the penalty still pushes the link out (documented deviation).
 //
-// Frozen decisions (Porter's choice; issue 6). The ball search takes discrete decisions: which
+// Frozen decisions (Porter's choice). The ball search takes discrete decisions: which
 // sphere samples survive the KinematicFilter, which survivor is the worst violator y*_k, and when
 // epsilon stops it. Each flips under tiny changes of the trajectory and D jumps with it (measured on
 // bridge h_b 1.1 seed 12 at the warm start, along -grad: the cost changed by -0.16 at step 1e-6,

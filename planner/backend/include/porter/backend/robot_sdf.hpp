@@ -7,6 +7,7 @@
 // Thread-safety: immutable after build(); share freely.
 
 #include <array>
+#include <cstdint>
 
 #include "porter/backend/link_sdf.hpp"
 #include "porter/core/robot_model.hpp"
@@ -20,6 +21,9 @@ class RobotSdf {
   /// `threads` >= 1 build links in parallel (each link's field is independent; the result does
   /// not depend on the count).
   static RobotSdf build(const RobotModel& model, const SdfGridSettings& settings = {}, int threads = 2);
+
+  /// build() calls in this process so far (a diagnostic: tests count builds). Thread-safe.
+  static std::int64_t build_count();
 
   const LinkSdf& link(int j) const { return links_[static_cast<std::size_t>(j)]; }
   const SdfGridSettings& settings() const { return settings_; }

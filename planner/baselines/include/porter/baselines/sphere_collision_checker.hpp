@@ -41,13 +41,20 @@ class SphereCollisionChecker final : public planner::CollisionChecker {
   planner::CollisionResult check_base(const BasePose& base) const override;
   planner::CollisionResult check_motion(const RobotConfiguration& from, const RobotConfiguration& to) const override;
   planner::CollisionResult check_trajectory(const Trajectory& trajectory) const override;
+  /// The self-collision and joint-limit part of check_trajectory() (same samples); free of every
+  /// self-collision when check_self_collision is off.
+  planner::CollisionResult check_trajectory_self(const Trajectory& trajectory) const override;
+  /// The cover's inflation, cell_m sqrt(3), plus half a voxel diagonal of the map's ESDF.
+  double inflation_bound_m(int link) const override;
   std::string name() const override { return "spheres"; }
 
   const RobotSpheres& spheres() const { return spheres_; }
   const DistanceField& field() const { return field_; }
 
  private:
-  planner::CollisionResult check_links(const RobotConfiguration& config, int up_to_link) const;
+  /// Links 0..up_to_link; with environment = false, joint limits and self-collision only.
+  planner::CollisionResult check_links(const RobotConfiguration& config, int up_to_link, bool environment = true) const;
+  planner::CollisionResult check_samples(const Trajectory& trajectory, bool environment) const;
   double step_m() const;
 
   const RobotModel* model_;

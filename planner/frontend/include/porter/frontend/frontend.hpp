@@ -6,7 +6,7 @@
 //   FrontEnd frontend(model, checker);       // checker: any CollisionChecker (kernels, ...)
 //   checker.set_map(grid); frontend.set_map(grid);
 //   FrontendResult r = frontend.plan(start, goal, /*budget_s=*/0.08, /*seed=*/7);
-//   if (r.status == PlannerStatus::kSuccess) midend.solve(r.path, ...);
+//   if (r.status == planner::Status::kSuccess) midend.solve(r.path, ...);
 //
 // Pipeline within one budget:
 //   1. start and goal are validated: inside the map's horizontal bounds, finite, within the joint
@@ -38,10 +38,11 @@
 #include "porter/core/robot_model.hpp"
 #include "porter/frontend/hybrid_astar.hpp"
 #include "porter/frontend/layered_arm_planner.hpp"
-#include "porter/frontend/planner_status.hpp"
+#include "porter/frontend/stage_report.hpp"
 #include "porter/frontend/time_allocation.hpp"
 #include "porter/frontend/whole_body_rrt.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
+#include "porter/planner/deadline.hpp"
 #include "porter/planner/whole_body_path.hpp"
 
 namespace porter::frontend {
@@ -66,7 +67,7 @@ struct FrontendSettings {
 bool validate_settings(const FrontendSettings& s, std::string* why);
 
 struct FrontendResult {
-  PlannerStatus status = PlannerStatus::kNoPath;
+  planner::Status status = planner::Status::kNoPath;
   std::string message;          ///< why it failed ("" on success)
   planner::WholeBodyPath path;  ///< on success
   double elapsed_s = 0.0;
@@ -87,8 +88,14 @@ class FrontEnd {
   /// Adopts a new map (the checker's map is set by its owner, before or after this call).
   void set_map(const OccupancyGrid& occupancy_W);
 
+  /// Plans until `deadline` expires: time up gives kTimeout, a canceled deadline kCanceled.
+  /// Statuses: kSuccess, kTimeout, kCanceled, kNoPath, kInvalidStart, kInvalidGoal, kNoMap.
+  FrontendResult plan(const RobotConfiguration& start, const RobotConfiguration& goal,
+                      const planner::Deadline& deadline, std::uint64_t seed);
   FrontendResult plan(const RobotConfiguration& start, const RobotConfiguration& goal, double budget_s,
-                      std::uint64_t seed);
+                      std::uint64_t seed) {
+    return plan(start, goal, planner::Deadline(budget_s), seed);
+  }
 
  private:
   /// Empty string when the configuration is valid, otherwise why not.

@@ -37,9 +37,10 @@
 #include "porter/core/occupancy_grid.hpp"
 #include "porter/core/robot_model.hpp"
 #include "porter/frontend/grid_heuristic.hpp"
-#include "porter/frontend/planner_status.hpp"
+#include "porter/frontend/stage_report.hpp"
 #include "porter/frontend/reeds_shepp.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -126,9 +127,14 @@ class HybridAStar {
   /// The grid heuristic of the last set_map() (goal of the last plan()).
   const GridHeuristic& grid_heuristic() const { return grid_; }
 
-  /// Searches a base path from start.base to goal.base within budget_s seconds. The arm
-  /// configurations are used only for the whole-body guidance. Requires set_map().
-  HybridAStarResult plan(const RobotConfiguration& start, const RobotConfiguration& goal, double budget_s);
+  /// Searches a base path from start.base to goal.base until `deadline` expires (time up: kTimeout;
+  /// canceled: kCanceled). The arm configurations are used only for the whole-body guidance.
+  /// Requires set_map().
+  HybridAStarResult plan(const RobotConfiguration& start, const RobotConfiguration& goal,
+                         const planner::Deadline& deadline);
+  HybridAStarResult plan(const RobotConfiguration& start, const RobotConfiguration& goal, double budget_s) {
+    return plan(start, goal, planner::Deadline(budget_s));
+  }
 
  private:
   struct Search;

@@ -34,8 +34,9 @@
 #include <vector>
 
 #include "porter/core/robot_model.hpp"
-#include "porter/frontend/planner_status.hpp"
+#include "porter/frontend/stage_report.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -134,7 +135,11 @@ class LayeredArmPlanner {
                     LayeredArmSettings settings = {});
   const LayeredArmSettings& settings() const { return settings_; }
 
-  LayeredArmResult plan(const ArmLayerProblem& problem, double budget_s, std::uint64_t seed) const;
+  /// Searches until `deadline` expires (time up: kTimeout; canceled: kCanceled).
+  LayeredArmResult plan(const ArmLayerProblem& problem, const planner::Deadline& deadline, std::uint64_t seed) const;
+  LayeredArmResult plan(const ArmLayerProblem& problem, double budget_s, std::uint64_t seed) const {
+    return plan(problem, planner::Deadline(budget_s), seed);
+  }
 
  private:
   const RobotModel& model_;

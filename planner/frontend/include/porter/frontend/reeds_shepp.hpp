@@ -71,7 +71,4 @@ BasePose rs_pose_at(const BasePose& from, const RsPath& path, double s_m, int* e
 void sample_rs_path(const BasePose& from, const RsPath& path, double max_step_m,
                     std::vector<BaseSample>* out);
 
-/// Wraps an angle to (-pi, pi].
-double wrap_angle(double a_rad);
-
 }  // namespace porter::frontend

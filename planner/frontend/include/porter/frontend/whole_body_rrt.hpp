@@ -25,9 +25,10 @@
 #include <Eigen/Geometry>
 
 #include "porter/core/robot_model.hpp"
-#include "porter/frontend/planner_status.hpp"
+#include "porter/frontend/stage_report.hpp"
 #include "porter/frontend/reeds_shepp.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
+#include "porter/planner/deadline.hpp"
 
 namespace porter::frontend {
 
@@ -79,8 +80,13 @@ class WholeBodyRrt {
                const Eigen::AlignedBox2d& map_bounds_xy_W, WholeBodyRrtSettings settings = {});
   const WholeBodyRrtSettings& settings() const { return settings_; }
 
+  /// Plans until `deadline` expires (time up: kTimeout; canceled: kCanceled).
+  WholeBodyRrtResult plan(const RobotConfiguration& start, const RobotConfiguration& goal,
+                          const planner::Deadline& deadline, std::uint64_t seed) const;
   WholeBodyRrtResult plan(const RobotConfiguration& start, const RobotConfiguration& goal, double budget_s,
-                          std::uint64_t seed) const;
+                          std::uint64_t seed) const {
+    return plan(start, goal, planner::Deadline(budget_s), seed);
+  }
 
  private:
   const RobotModel& model_;

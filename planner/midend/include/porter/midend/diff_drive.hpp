@@ -79,12 +79,4 @@ inline double heading_from_velocity(const Eigen::Vector2d& v, int eta, Eigen::Ve
   return std::atan2(eta * v.y(), eta * v.x());
 }
 
-/// Shortest signed angular difference a - b, in [-pi, pi).
-inline double angle_difference(double a, double b) {
-  constexpr double kPi = 3.14159265358979323846;
-  double d = std::fmod(a - b + kPi, 2.0 * kPi);
-  if (d < 0.0) d += 2.0 * kPi;
-  return d - kPi;
-}
-
 }  // namespace porter::midend

@@ -1,38 +1,37 @@
 #pragma once
 // The MINCO mid-end (paper §V): turns the front-end's discrete whole-body path into a smooth,
-// kinematically feasible trajectory that stays near it, then optionally checks it for direct
-// execution.
+// kinematically feasible trajectory that stays near it. Whether it is executed directly is the
+// pipeline's acceptance check (planner/pipeline), not the mid-end's.
 //
 //   MidEnd midend(robot_model);                      // limits come from the robot config
-//   MidendResult r = midend.solve(path, 0.03, validator);
-//   if (r.ok() && r.execution == Execution::kDirect) publish(*r.trajectory);
-//   else if (r.ok()) backend.solve(*r.trajectory, ...);
+//   MidendResult r = midend.solve(path, planner::Deadline(0.03));
+//   if (r.ok() && accepted(*r.trajectory)) publish(*r.trajectory);
+//   else if (r.solution) backend.solve(*r.solution, ...);   // the back-end continues from it
 //
-// solve() never throws and never prints: every outcome is a MidendStatus with a message.
-// Problem construction: midend_problem.hpp; path preparation: reference_path.hpp; settings:
-// midend_settings.hpp. Optimizer: liblbfgs, stopping on relative cost decrease
-// (relative_cost_tolerance over relative_cost_past iterations), the iteration cap or the time
-// budget (checked after every iteration through the progress callback); a run that stops early
-// while still making progress is restarted with a fresh memory (max_restarts).
+// solve() never throws and never prints: every outcome is a planner::Status with a message
+// (kConverged, kConvergedWithWarning, kIterationLimit, kTimeout and kTrivialPath come with a
+// trajectory; kCanceled, kInvalidInput, kInvalidRobotLimits, kNumericalFailure, kOptimizerFailed
+// and kConstraintViolation without). Problem construction: midend_problem.hpp; path preparation:
+// reference_path.hpp; settings: midend_settings.hpp. Optimizer: the L-BFGS driver
+// (lbfgs_driver.hpp), stopping on relative cost decrease (relative_cost_tolerance over
+// relative_cost_past iterations), the iteration cap or the deadline (checked after every
+// iteration); a run that stops early while still making progress is restarted with a fresh
+// memory (max_restarts).
 //
 // Thread-safety: a MidEnd is immutable after construction; solve() is const and may run
-// concurrently from several threads (each call owns its workspace). The validator is called on
-// the solving thread.
+// concurrently from several threads (each call owns its workspace).
 
-#include <functional>
+#include <optional>
 
 #include "porter/core/robot_model.hpp"
 #include "porter/core/trajectory.hpp"
 #include "porter/midend/midend_limits.hpp"
 #include "porter/midend/midend_result.hpp"
 #include "porter/midend/midend_settings.hpp"
+#include "porter/planner/deadline.hpp"
 #include "porter/planner/whole_body_path.hpp"
 
 namespace porter::midend {
-
-/// Direct-execution hook: returns true when the trajectory is collision-free (the kernel
-/// motion check along it). Must not throw.
-using TrajectoryValidator = std::function<bool(const Trajectory&)>;
 
 class MidEnd {
  public:
@@ -42,11 +41,22 @@ class MidEnd {
   const MidendSettings& settings() const { return settings_; }
   const MidendLimits& limits() const { return limits_; }
 
-  /// Optimizes `path` within time_budget_s (<= 0: settings().default_time_budget_s); the
-  /// budget covers the optimization, not the validator. When the result has a trajectory and
-  /// `validator` is set, it is called once and result.execution records the decision.
-  MidendResult solve(const planner::WholeBodyPath& path, double time_budget_s,
-                     const TrajectoryValidator& validator = {}) const;
+  /// Optimizes `path` until `deadline` expires (time up: kTimeout with the last iterate;
+  /// canceled: kCanceled, no trajectory). The trajectory starts at the path's first node with
+  /// `start`'s velocity and acceleration (default: at rest); a start state it cannot use
+  /// (non-finite, or moving on a path without motion) is kInvalidStart.
+  MidendResult solve(const planner::WholeBodyPath& path, const planner::Deadline& deadline,
+                     const StartDerivatives& start = {}) const;
+  MidendResult solve(const planner::WholeBodyPath& path, double budget_s) const {
+    return solve(path, planner::Deadline(budget_s));
+  }
+
+  /// The solution behind `trajectory`, a trajectory this mid-end (same limits and settings) made
+  /// for `path` from `start` (e.g. a recorded one): the reference path rebuilt and the decision
+  /// vector read back from the pieces (MidendProblem::decision_from_trajectory). nullopt when the
+  /// trajectory does not belong to the path.
+  std::optional<MidendSolution> solution_for(const planner::WholeBodyPath& path, const Trajectory& trajectory,
+                                             const StartDerivatives& start = {}) const;
 
  private:
   MidendLimits limits_;

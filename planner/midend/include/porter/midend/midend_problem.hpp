@@ -5,8 +5,9 @@
 //
 // Trajectory model. Segment s (eta_s = +-1, M_s pieces) is its own MincoS3<8> over
 // z = [p_x, p_y, q1..q6]. Its boundary states are
-//   - the global start / goal: the first / last reference node at rest (velocity and
-//     acceleration zero);
+//   - the global start: the first reference node with the reference's start velocity and
+//     acceleration (ReferencePath::start; zero for a start at rest, the paper's case); the goal:
+//     the last reference node at rest (velocity and acceleration zero);
 //   - a gear switch g between segments g and g+1: a decision state
 //       position z_g (8), heading theta_g, joint velocity qd_g (6), joint acceleration qdd_g (6);
 //     base velocity pinned to eta_s * v_ns * [cos theta_g, sin theta_g] on each side (so the
@@ -38,7 +39,8 @@
 // edges uses the kappa the reference path gives it (ReferenceSegment::intervals: about
 // samples_per_edge per edge, gear_sample_factor times more next to a gear switch).
 //
-// Rest boundaries: at the global start and goal (and at rest junctions) v = a = 0 and the sampled wheel terms see only
+// Rest boundaries: at the global start (when the base starts at rest) and goal (and at rest
+// junctions) v = a = 0 and the sampled wheel terms see only
 // the guarded (zero) rates. Near a rest instant t0, p_xy'(t) = (t - t0)^2 U(t) with
 // U = j/2 + s (t - t0)/6 + c (t - t0)^2/24 (j, s, c = jerk, snap, crackle at t0), so the exact
 // limits are omega_b = (U x U')/|U|^2 and alpha_b = (U x U'')/|U|^2 - 2 (U x U')(U . U')/|U|^4 at
@@ -152,6 +154,13 @@ class MidendProblem {
   double evaluate(const Eigen::VectorXd& x, Eigen::VectorXd* grad, CostBreakdown* breakdown) {
     return evaluate(x.data(), grad ? grad->data() : nullptr, breakdown);
   }
+
+  /// The decision vector of `trajectory` (one of this problem's trajectories, e.g. a solve's
+  /// result) with the global time scale folded into the piece times (sigma = 0): waypoints and
+  /// gear states read from the pieces, tau from their durations. False when the piece count or a
+  /// piece's eta differs, or when pieces() does not map the result back to the same pieces
+  /// (within 1e-6 relative).
+  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x);
 
   /// The pieces x describes, segment after segment (eta per piece). Empty if x is unusable.
   std::vector<TrajectoryPiece> pieces(const double* x);

@@ -1,13 +1,16 @@
 #pragma once
-// What one mid-end solve returns: the status, the trajectory (when there is one), whether it was
-// checked collision-free for direct execution, timing, iteration counts and the cost breakdown.
-// Plain data.
+// What one mid-end solve returns: the status, the trajectory and the solution behind it (when
+// there is one), timing, iteration counts and the cost breakdown. Plain data.
 
 #include <optional>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "porter/core/trajectory.hpp"
-#include "porter/midend/midend_status.hpp"
+#include "porter/midend/midend_settings.hpp"
+#include "porter/midend/reference_path.hpp"
+#include "porter/planner/status.hpp"
 
 namespace porter::midend {
 
@@ -34,31 +37,27 @@ struct CostBreakdown {
   double penalties() const { return total() - energy - time; }
 };
 
-/// What happened after optimization (paper §V "direct execution").
-enum class Execution {
-  kNotChecked,     ///< no validator was given (or there is no trajectory)
-  kDirect,         ///< the validator found it collision-free: execute it, skip the back-end
-  kNeedsBackend,   ///< the validator found a collision: hand it to the back-end as a warm start
+/// The mid-end's solution as a value the back-end continues from: the prepared reference path
+/// (its start state included), the settings it was solved with and the decision vector in the
+/// layout of midend_problem.hpp. MidendProblem(reference, limits, settings) evaluated at x gives
+/// the returned trajectory; the back-end adds its safety term to that same problem and starts
+/// at x.
+struct MidendSolution {
+  ReferencePath reference;
+  MidendSettings settings;
+  Eigen::VectorXd x;
 };
 
-inline const char* to_string(Execution e) {
-  switch (e) {
-    case Execution::kNotChecked: return "not checked";
-    case Execution::kDirect: return "collision-free: direct execution, back-end skipped";
-    case Execution::kNeedsBackend: return "in collision: back-end required";
-  }
-  return "unknown";
-}
-
 struct MidendResult {
-  MidendStatus status = MidendStatus::kInvalidInput;
+  planner::Status status = planner::Status::kInvalidInput;
   std::string message;                    ///< human-readable detail (liblbfgs code, bad field...)
   std::optional<Trajectory> trajectory;   ///< set iff has_trajectory(status)
-  Execution execution = Execution::kNotChecked;
+  /// Set with the trajectory of an optimized problem (not for kTrivialPath).
+  std::optional<MidendSolution> solution;
 
-  double elapsed_s = 0.0;                 ///< whole solve() call, validation included
-  double optimize_s = 0.0;                ///< L-BFGS alone
-  double validate_s = 0.0;                ///< the validator alone
+  double elapsed_s = 0.0;                 ///< whole solve() call
+  double prepare_s = 0.0;                 ///< reference path, problem and initial guess (part of elapsed_s)
+  double optimize_s = 0.0;                ///< L-BFGS alone (part of elapsed_s); the rest is the result check
   int iterations = 0;                     ///< L-BFGS iterations
   int evaluations = 0;                    ///< cost + gradient evaluations
   int lbfgs_code = 0;                     ///< raw lbfgs() return code

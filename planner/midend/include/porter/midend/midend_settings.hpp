@@ -37,7 +37,7 @@ struct MidendSettings {
   /// With 20 no limit bound at the optimum on the scene paths (forest seed 2: 97 s for 23 m,
   /// base <= 0.53 m/s of 1.05, joints <= 0.65 of their speed limit; the jerk energy E and
   /// rho_T T balance at 5 E ~ rho_T T); with 100 the wheel and joint limits bind and the
-  /// trajectories are 10-20 % shorter (scripts/bench-midend, issue 5 notes).
+  /// trajectories are 10-20 % shorter (scripts/bench-midend).
   double time_weight_per_s = 100.0;
 
   // --- Penalties (constraint transcription) -----------------------------------------------
@@ -132,16 +132,6 @@ struct MidendSettings {
   /// the piece's duration is ~0.8 of the edge away from the start node, so edges must stay
   /// below ~1.2 rho for the residual to be satisfiable at all.
   double densify_factor = 1.2;
-  /// The same for the reference sub-edge that touches a rest instant (the global start and
-  /// goal, and for the base the junctions with a still segment): it is split again into equal
-  /// parts of at most rest_densify_factor * rho. Near rest the trajectory leaves (enters) with
-  /// zero velocity and acceleration and moves like t^3: at the instant midway in time between
-  /// the last node and the goal it has covered ~7/8 of the last edge, so the residual against the
-  /// node nearest in time reaches ~0.9 of that edge (1.05 rho_m measured on tunnel seed 13).
-  /// 0 disables. Default 0 for now: 0.6 passes tunnel 20/20, but it changes the mid-end output
-  /// that back-end test fixtures rely on (bridge h_b = 0.9 seed 2 comes out collision-free) and
-  /// costs trajectory duration (issue 5 notes). 0 or in (0, densify_factor].
-  double rest_densify_factor = 0.0;
   /// Upper bound on reference edges inserted per front-end edge by densification. >= 1.
   int max_pieces_per_edge = 16;
   /// Grouping of reference edges into MINCO pieces (reference_path.hpp, step 8): a piece spans
@@ -189,15 +179,13 @@ struct MidendSettings {
   /// boundaries the wheel-acceleration penalty (yaw acceleration at |v| <= v_ns) makes full
   /// quasi-Newton steps overshoot by orders of magnitude, hence ~2 evaluations per iteration.
   LineSearch line_search = LineSearch::kBacktrackingWolfe;
-  /// Result check (MidendStatus::kConstraintViolation): the final trajectory is sampled every
+  /// Result check (planner::Status::kConstraintViolation): the final trajectory is sampled every
   /// verify_step_s through porter::Trajectory; a wheel or joint limit exceeded by more than
   /// verify_tolerance (relative; joint positions: fraction of the range) or a base reversal
   /// inside a segment rejects it. The penalties leave small violations between samples, hence
   /// the tolerance. verify_step_s <= 0 disables the check. tolerance >= 0.
   double verify_tolerance = 0.05;
   double verify_step_s = 0.01;
-  /// Time budget used by MidEnd::solve() when the caller passes a non-positive one, s.
-  double default_time_budget_s = 0.1;
 };
 
 }  // namespace porter::midend

@@ -16,7 +16,8 @@
 //   5a. drops the node next to the goal (start) when it is within 0.1 still_max_base_m,
 //      still_max_yaw_rad and still_min_arm_rad of it (a creeping end edge without arm motion);
 //   5b. splits off still ends (MidendSettings::still_max_base_m): the longest goal tail of the
-//      last segment (start head of the first) whose base path and heading change are within
+//      last segment (start head of the first, unless the base moves at the start) whose base
+//      path and heading change are within
 //      still_max_base_m / still_max_yaw_rad and which moves the arm by still_min_arm_rad becomes
 //      a still segment (base_still, same eta) whose nodes, and the moving part's junction node,
 //      carry the goal (start) base pose: the base comes to rest at the goal, then the arm
@@ -24,16 +25,14 @@
 //   6. splits every edge longer than densify_factor * rho_b (base metric
 //      sqrt(|dp|^2 + w_phi dyaw^2)) or densify_factor * rho_m (joints) into equal sub-edges with
 //      linearly interpolated nodes (yaw along the shortest arc): the residual's reference nodes;
-//      with rest_densify_factor > 0 the sub-edge touching a rest instant (global start / goal,
-//      a junction with a still segment) is split again into parts of at most that factor * rho;
 //   7. allocates initial durations to every edge from a speed profile over all edges: node
 //      speeds bounded by the wheel speed on the edge's curvature (v (1 + d_w |kappa| / 2) <=
-//      r omega_max), the joint speeds, 0 at the global start and goal and on still segments, v_ns at gear switches,
-//      then forward/backward passes with the wheel acceleration bound (a <= r alpha_max), all at
+//      r omega_max), the joint speeds, the start's speed at the global start (0 at rest), 0 at
+//      the goal and on still segments, v_ns at gear switches, then forward/backward passes with the wheel acceleration bound (a <= r alpha_max), all at
 //      initial_speed_fraction of the limits; an edge lasts 2 L / (v_k + v_k+1), at least its
 //      heading / joint motion at the limited rates and min_initial_piece_duration_s; on a still
 //      segment the arm edges are timed by per-joint speed profiles (joint speed and acceleration
-//      bounds, at rest at the global start and goal), so the nodes of an arm motion that ends or
+//      bounds, at the start's joint speeds at the global start, at rest at the goal), so the nodes of an arm motion that ends or
 //      starts at rest sit where a braking (accelerating) arm reaches them. The
 //      front-end's node times are not used (they are a plan's guess, often a cruise speed far
 //      below the limits);
@@ -61,6 +60,16 @@
 #include "porter/planner/whole_body_path.hpp"
 
 namespace porter::midend {
+
+/// The flat output's velocity and acceleration where the trajectory starts, in W (m/s, rad/s,
+/// m/s^2, rad/s^2; z = [p_x, p_y, q1..q6]). Zero: the robot starts at rest (the paper's case). A
+/// moving base must move along the start heading, in the first segment's driving direction.
+struct StartDerivatives {
+  TrajVector velocity = TrajVector::Zero();
+  TrajVector acceleration = TrajVector::Zero();
+  /// The base neither moves nor accelerates (the arm may).
+  bool base_at_rest() const { return velocity.head<2>().isZero(0.0) && acceleration.head<2>().isZero(0.0); }
+};
 
 struct ReferenceSegment {
   int eta = 1;
@@ -96,6 +105,8 @@ struct ReferencePath {
   /// Consecutive segments have opposite eta (a gear switch), except next to a still segment
   /// (at most one at each end), which has its moving neighbour's eta (a rest junction).
   std::vector<ReferenceSegment> segments;
+  /// The trajectory's velocity and acceleration at the first node (zero: it starts at rest).
+  StartDerivatives start;
   int num_pieces() const {
     int n = 0;
     for (const auto& s : segments) n += s.num_pieces();
@@ -117,7 +128,8 @@ struct ReferenceBuild {
   RobotConfiguration single;             ///< the configuration, for kNoMotion
 };
 
+/// `start`: the trajectory's derivatives at the path's first node (zero: at rest).
 ReferenceBuild build_reference_path(const planner::WholeBodyPath& path, const MidendLimits& limits,
-                                    const MidendSettings& settings);
+                                    const MidendSettings& settings, const StartDerivatives& start = {});
 
 }  // namespace porter::midend

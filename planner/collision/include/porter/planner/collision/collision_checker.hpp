@@ -62,6 +62,17 @@ class CollisionChecker {
   /// heading rule).
   virtual CollisionResult check_trajectory(const Trajectory& trajectory) const = 0;
 
+  /// Self-collision (and joint limits) only, along the trajectory: finds a self-collision even
+  /// where check_trajectory() stops at an environment hit first (the pipeline re-solves a
+  /// self-colliding mid-end trajectory closer to the front-end's path). An implementation that
+  /// does not check self-collision returns "free" and says so in its header.
+  virtual CollisionResult check_trajectory_self(const Trajectory& trajectory) const = 0;
+
+  /// How much larger than the exact geometry link j (0..7) may be when checked against the map:
+  /// a reported collision is at most this far from a real one (m, >= 0). The back-end keeps its
+  /// safety margins above it so that its answer passes this checker.
+  virtual double inflation_bound_m(int link) const = 0;
+
   /// A short name for logs and result files ("kernels", "spheres").
   virtual std::string name() const = 0;
 };

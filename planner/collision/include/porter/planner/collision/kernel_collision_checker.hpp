@@ -1,7 +1,9 @@
 #pragma once
 // KernelCollisionChecker: the chain-decomposed kernel collision check (paper §IV-B, §IV-C), the
-// "kernels" implementation of CollisionChecker. It owns the robot kernels (robot_kernels.hpp),
-// the map kernel (map_kernel.hpp) and the self-collision check (self_collision.hpp).
+// "kernels" implementation of CollisionChecker. It is split in two parts: the robot side
+// (KernelRobot, kernel_robot.hpp: robot kernels, kinematics, self-collision proofs), built once per
+// robot + payload and shared, and the map side this object owns (MapKernel, map_kernel.hpp), which
+// set_map() replaces or updates incrementally. A checker for another map shares the same robot.
 //
 // A configuration is reported in collision when (each bound stated in the part's header):
 //   - base (link 0): its geometry meets a voxel of O_m (occupied, dilated by the safety margin)
@@ -39,11 +41,10 @@
 // check their samples this way, in the order described above, and report the first hit in that
 // order (at most seven samples past it are checked).
 //
-// Speed (tests/bench/bench_collision.cpp, porter-bench-collision; README): free configurations
-// close to obstacles take ~0.35-0.44 us per check() and ~0.23-0.32 us per configuration in
-// check_batch(); colliding ones ~0.19-0.29 us either way (AVX2 clones; the payload's tree walk
-// and the self-collision part dominate, then cache misses and mispredicted branches); no heap
-// allocation in check(), check_batch(), check_base(), check_motion(), check_trajectory().
+// Speed: a check is a few hundred nanoseconds (the payload's tree walk and the self-collision part
+// dominate, then cache misses and mispredicted branches); porter-bench-collision measures it
+// (tests/bench/bench_collision.cpp, figures in the README). No heap allocation in check(),
+// check_batch(), check_base(), check_motion(), check_trajectory().
 // Thread-safety: const members may be called concurrently once the map is set; set_map() needs
 // exclusive access.
 
@@ -55,21 +56,12 @@
 #include "porter/core/robot_model.hpp"
 #include "porter/planner/collision/collision_checker.hpp"
 #include "porter/planner/collision/kernel_kinematics.hpp"
+#include "porter/planner/collision/kernel_robot.hpp"
 #include "porter/planner/collision/map_kernel.hpp"
 #include "porter/planner/collision/robot_kernels.hpp"
 #include "porter/planner/collision/self_collision.hpp"
 
 namespace porter::planner {
-
-struct KernelCheckerSettings {
-  RobotKernelSettings kernels;  ///< resolution (= map resolution), joint sampling
-  MapKernelSettings map;        ///< safety margin, distance-field cap
-  SelfCollisionSettings self;   ///< sample spacing, proofs
-  bool check_self_collision = true;
-  /// Largest displacement of any robot point between neighbouring samples of a motion or a
-  /// trajectory (m); <= 0 selects one voxel.
-  double motion_step_m = 0.0;
-};
 
 /// Memory used and kernels held.
 struct KernelStorage {
@@ -81,8 +73,11 @@ struct KernelStorage {
 
 class KernelCollisionChecker final : public CollisionChecker {
  public:
-  /// Builds the kernels for `model` (payload attached). Throws std::invalid_argument for
-  /// non-positive resolutions or spacings.
+  /// The map part for a robot side built before (shared; never rebuilt here), with `map`'s margin
+  /// and distance cap. Throws std::invalid_argument when `robot` is null.
+  KernelCollisionChecker(std::shared_ptr<const KernelRobot> robot, const MapKernelSettings& map = {});
+  /// Builds its own robot side for `model` (payload attached) from `settings`. Throws
+  /// std::invalid_argument for non-positive resolutions or spacings.
   explicit KernelCollisionChecker(const RobotModel& model, const KernelCheckerSettings& settings = {});
 
   /// Throws std::invalid_argument when the grid's resolution differs from the kernels' (by more
@@ -108,7 +103,10 @@ class KernelCollisionChecker final : public CollisionChecker {
   /// more than motion_step_m / 2 relative to the base between neighbours (joint rates only; the
   /// base motion does not change self-collision). Unlike check_trajectory(), which reports the
   /// first hit of any kind, this finds a self-collision even where the environment is hit first.
-  CollisionResult check_trajectory_self(const Trajectory& trajectory) const;
+  CollisionResult check_trajectory_self(const Trajectory& trajectory) const override;
+  /// RobotKernels::inflation_bound_m(link); the self-collision check's own bound is
+  /// self_collision().inflation_bound_m().
+  double inflation_bound_m(int link) const override { return kernels_.inflation_bound_m(link); }
 
   /// Number of intervals check_motion() splits the segment into.
   int motion_intervals(const RobotConfiguration& from, const RobotConfiguration& to) const;
@@ -116,6 +114,8 @@ class KernelCollisionChecker final : public CollisionChecker {
 
   const MapUpdateStats& last_map_update() const { return last_update_; }
   KernelStorage storage() const;
+  /// The shared robot side.
+  const std::shared_ptr<const KernelRobot>& robot() const { return robot_; }
   const RobotKernels& kernels() const { return kernels_; }
   const MapKernel& map_kernel() const { return map_; }
   const SelfCollisionChecker& self_collision() const { return self_; }
@@ -155,10 +155,12 @@ class KernelCollisionChecker final : public CollisionChecker {
   /// check() (self = true) or check_environment() (self = false).
   CollisionResult check_prepared(const RobotConfiguration& config, bool self) const;
 
-  KernelCheckerSettings settings_;
-  RobotKernels kernels_;
-  KernelKinematics kinematics_;
-  SelfCollisionChecker self_;
+  std::shared_ptr<const KernelRobot> robot_;
+  KernelCheckerSettings settings_;  ///< the robot's, with this checker's map settings
+  // The robot side's parts (owned by robot_).
+  const RobotKernels& kernels_;
+  const KernelKinematics& kinematics_;
+  const SelfCollisionChecker& self_;
   MapKernel map_;
   MapUpdateStats last_update_;
   double motion_step_m_ = 0.0;

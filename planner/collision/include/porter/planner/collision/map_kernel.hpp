@@ -9,9 +9,8 @@
 // spare word per row so a 64-bit window starting at any x in the row can be read. The arm set
 // alone is stored in bricks of 4 x 4 x 4 voxels, one 64-bit word each (brick (x/4, y/4, z/4) is
 // word x/4 + Bx (y/4 + By z/4), bit (x % 4) + 4 (y % 4) + 16 (z % 4)): the eight points of a
-// kernel block lie within a few voxels of each other and read one or two bricks where they read
-// four to nine rows (A/B, forest, 20 000 free-near configurations, medians of five alternating
-// runs, two rounds: 383 vs 390 and 404 vs 410 ns per batched check; tunnel 294 vs 297).
+// kernel block lie within a few voxels of each other, so they read one or two bricks where rows
+// would take four to nine loads.
 //
 // Sets held (each voxel a closed box):
 //   O     occupied voxels of the grid;
@@ -50,16 +49,11 @@
 //     convex in x (a maximum of affine functions), so at x = sum_k w_k c_k it is at most
 //     sum_k w_k (|c_k|^2 - d(c_k)^2); rearranged, d(x)^2 >= sum_k w_k d(c_k)^2 - sum_k w_k
 //     |c_k - x|^2, and the last sum is the variance term above.
-//     Why not the nearest centre's value minus the offset (d is 1-Lipschitz; the bound used
-//     before): that loses up to half a cell diagonal (1.7 voxels) at any distance, where the
-//     interpolated square loses about A^2 (t(1 - t) + ...) / (2 d), a fraction of a voxel once
-//     the obstacle is a few voxels away (2-6 voxels from it: 0.48 voxel short of the exact
-//     distance on average, 0.97 with the nearest centre; test_map_kernel.cpp). On 5 000 free-near
-//     forest configurations the payload's root sphere stayed open in 72 % of the checks (79 %
-//     with the nearest centre) and its tree walk opened 1.7 nodes and 0.4 blocks per check (2.9
-//     and 1.5; 1.5 and 0.1 with the exact distance at every sphere centre, by brute force). A/B,
-//     20 000 free-near configurations batched, seven alternating runs: forest 354-372 ns per
-//     check (median 367) vs 404-430 (414), tunnel 281-287 vs 304-313.
+//     Why not the nearest centre's value minus the offset (d is 1-Lipschitz): that loses up to
+//     half a cell diagonal (1.7 voxels) at any distance, where the interpolated square loses
+//     about A^2 (t(1 - t) + ...) / (2 d), a fraction of a voxel once the obstacle is a few voxels
+//     away (test_map_kernel.cpp compares both with the exact distance). A tighter bound proves
+//     more sphere-tree nodes clear, so a check opens fewer nodes and blocks near obstacles.
 //     Float32: the offsets t carry an error of about 2^-23 D cells (D the largest padded
 //     dimension), and along one axis the bound's square changes by less than
 //     |v_1^2 - v_0^2| + A^2 < 4 700 units^2 per cell (|v_1 - v_0| <= A + 1, v <= 255), so the
@@ -102,10 +96,9 @@ class MapKernel {
  public:
   /// Edge of a distance-field cell, in voxels; even, so a cell's centre is a lattice vertex.
   /// Two: the field costs a byte per 8 grid voxels (0.44 MB for a 22 x 8 x 2.5 m map at 5 cm).
-  /// One-voxel cells (then with the smallest distance over the cell as the bound) cut the
-  /// instructions of a whole-body check by 10 % (callgrind, forest) but A/B runs of the whole
-  /// check (20 000 free-near configurations, best of 15) gained only 0-4 % in time (the
-  /// eightfold field misses the caches more). Not worth 8x the memory on large maps.
+  /// One-voxel cells (then with the smallest distance over the cell as the bound) execute fewer
+  /// instructions per check but take 8x the memory, and the larger field misses the caches more:
+  /// no faster on the shipped scenes.
   static constexpr int kCellVoxels = 2;
   static_assert(kCellVoxels % 2 == 0, "cell centres must be lattice vertices");
   static constexpr float kInvCell = 1.f / kCellVoxels;

@@ -33,11 +33,8 @@
 //      (unless larger than the grid's cap); then the trees below the roots, pair by pair in check
 //      order, a node's child spheres that the grid leaves open tried against the boxes too.
 //      Why the boxes first: they read no memory, and they clear more root spheres than the grid,
-//      whose bound outside its box is the distance to that box (5 000 free-near forest
-//      configurations: payload vs base 63 % vs 20 %, link 3 vs base 97 % vs 59 %, every other
-//      pair at least as often). A/B (forest, 20 000 free-near configurations batched, seven
-//      alternating runs, medians): 335 vs 343 ns, 283 vs 300 over 2 000 reshuffled; the boxes
-//      for the walks' child spheres: 317 vs 325 ns, 278 vs 281.
+//      whose bound outside its box is only the distance to that box (the payload's large root
+//      sphere next to the base is the common case).
 //      A reported pair is at most s sqrt(3) + 0.1 mm apart (inflation_bound_m(); the 0.1 mm
 //      covers float32 rounding of poses and points).
 //

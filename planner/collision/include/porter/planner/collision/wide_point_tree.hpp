@@ -15,13 +15,10 @@
 // blocks. A cut is placed between a quarter and three quarters of the blocks (and, once a node's
 // blocks fit its eight groups, so that each half's blocks fit its groups), along the axis and
 // at the place where the two halves' boxes have the smallest sum of diagonals. Why not the median
-// of the longest axis (the rule before): equal halves of a T-shaped payload mix stem and crossbar,
-// giving two first-level spheres of 0.29 m; with the cost rule one sphere of 0.27 m is left (the
-// T's junction) and the other seven are 0.06-0.13 m; the payload's walk tests 1.2 nodes per
-// free-near forest check instead of 1.7, and a batched check took 283 ns instead of 319 in the
-// forest, 231 instead of 246 in the tunnel (A/B, 20 000 configurations, alternating runs; the
-// fit rule for small nodes, which keeps trees a level shallower, then 276 vs 280 ns). Building
-// every kernel and sample tree of the shipped robot takes ~80 ms longer (three sorts per cut).
+// of the longest axis: equal halves of a T-shaped payload mix stem and crossbar into two large
+// first-level spheres; the cost rule leaves one large sphere (the T's junction) and seven small
+// ones, so a walk near obstacles opens fewer nodes. The fit rule for small nodes keeps trees a
+// level shallower. The price is build time (three sorts per cut), paid once per robot.
 // Sphere centres are box centres, radii the largest distance to a point, rounded up by a
 // relative 1e-6 so float rounding never shrinks a sphere.
 //

@@ -49,7 +49,7 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   // Valid values parse (nothing collides in the empty scene: no back-end, exit 0).
   EXPECT_EQ(run(base + "--safety svsdf_per_link --out " + (dir_ / "e.json").string()), 0) << file("stderr.txt");
   const auto doc = nlohmann::json::parse(file("e.json"));
-  EXPECT_EQ(doc["format"], "porter-plan-result/3");
+  EXPECT_EQ(doc["format"], "porter-plan-result/4");
   EXPECT_EQ(doc["safety"], "svsdf_per_link");
   EXPECT_TRUE(doc["backend"].is_null());
   EXPECT_EQ(doc["final_check"]["stage"], "midend");
@@ -65,7 +65,7 @@ TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
   const auto& be = doc["backend"];
   ASSERT_TRUE(be.is_object());
   EXPECT_EQ(be["safety_model"], "kc_svsdf");
-  EXPECT_EQ(be["status"], "iteration limit reached");
+  EXPECT_EQ(be["status"], "iteration_limit");
   EXPECT_EQ(be["iterations"], 3);
   EXPECT_GT(be["evaluations"].get<int>(), 3);
   EXPECT_GT(be["time_ms"].get<double>(), 0.0);
@@ -88,7 +88,7 @@ TEST_F(PorterPlanFull, BridgeRunsTheBackendAndRecordsIt) {
   const std::string out = file("stdouta.txt");
   EXPECT_EQ(out.rfind("front-end: success", 0), 0u) << out;
   EXPECT_NE(out.find("\nmid-end: "), std::string::npos) << out;
-  EXPECT_NE(out.find("\nback-end: iteration limit reached"), std::string::npos) << out;
+  EXPECT_NE(out.find("\nback-end: iteration_limit"), std::string::npos) << out;
   EXPECT_NE(out.find("safety kc_svsdf"), std::string::npos) << out;
 
   // Same seed, same result (the back-end merges its threads' sums in a fixed order).

@@ -1,5 +1,7 @@
-// porter-plan end to end: exit codes for bad arguments, unreadable files and invalid starts, and
-// the JSON result of a successful plan. (--stages full with a back-end: tests/planner/backend.)
+// porter-plan end to end: exit codes for bad arguments, unreadable files and invalid starts, the
+// JSON result of a successful plan, the planner settings files and the flags that override them,
+// and how it finds its config without a build-machine path in the binary. (--stages full with a
+// back-end: porter_plan_full_test.cpp.)
 
 #include <filesystem>
 #include <fstream>
@@ -117,7 +119,7 @@ TEST_F(PorterPlan, PlansAtTheScenesResolution) {
   ASSERT_NE(original.find("resolution: 0.05"), std::string::npos);
   EXPECT_EQ(run("--scene " + with("0.1") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
       << file("stdout.txt") << file("stderr.txt");
-  EXPECT_EQ(run("--scene " + with("0.0125") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
+  EXPECT_EQ(run("--scene " + with("0.025") + " --robot " + robot() + " --stages front --frontend-budget-ms 20000"), 0)
       << file("stdout.txt") << file("stderr.txt");
 }
 
@@ -127,7 +129,7 @@ TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
       << file("stdout.txt") << file("stderr.txt");
   EXPECT_EQ(file("stdout.txt").rfind("front-end: success", 0), 0u) << file("stdout.txt");
   const auto doc = nlohmann::json::parse(file("r.json"));
-  EXPECT_EQ(doc["format"], "porter-plan-result/3");
+  EXPECT_EQ(doc["format"], "porter-plan-result/4");
   EXPECT_EQ(doc["status"], "success");
   EXPECT_EQ(doc["scene"]["seed"], 7);
   EXPECT_EQ(doc["checker"], "kernels");
@@ -145,6 +147,58 @@ TEST_F(PorterPlan, SuccessWritesTheDocumentedJson) {
   EXPECT_TRUE(doc["trajectory"].is_null());
   EXPECT_TRUE(doc["backend"].is_null());
   EXPECT_TRUE(doc["final_check"].is_null());
+}
+
+TEST_F(PorterPlan, FindsItsConfigFromAnyWorkingDirectory) {
+  // No --robot, no --planner-config, run from a scratch directory: the config directory above
+  // the executable (the source tree's) is used.
+  const std::string out = (dir_ / "r.json").string();
+  ASSERT_EQ(run_in(dir_.string(), "--scene " + scene("empty") + " --stages front --frontend-budget-ms 20000 --out " + out), 0)
+      << file("stderr.txt");
+  const auto doc = nlohmann::json::parse(file("r.json"));
+  const fs::path robot = doc["robot_file"].get<std::string>();
+  const fs::path planner = doc["planner_config"].get<std::string>();
+  EXPECT_TRUE(fs::equivalent(robot, porter::test::robot_yaml())) << robot;
+  EXPECT_TRUE(fs::equivalent(planner, porter::test::source_dir() + "/config/planner")) << planner;
+}
+
+TEST_F(PorterPlan, NoPathOfTheBuildMachineIsInTheBinary) {
+  std::ifstream in(PORTER_PLAN_EXE, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  ASSERT_GT(bytes.str().size(), 100000u);
+  EXPECT_EQ(bytes.str().find(porter::test::source_dir()), std::string::npos);
+}
+
+TEST_F(PorterPlan, SettingsFilesAreReadStrictlyAndFlagsOverrideThem) {
+  const fs::path settings = dir_ / "planner";
+  fs::create_directories(settings);
+  for (const char* f : {"pipeline.yaml", "frontend.yaml", "midend.yaml", "backend.yaml"})
+    fs::copy_file(porter::test::source_dir() + "/config/planner/" + f, settings / f);
+  auto edit = [&](const std::string& file, const std::string& from, const std::string& to) {
+    std::ifstream in(settings / file);
+    std::stringstream text;
+    text << in.rdbuf();
+    std::string s = text.str();
+    ASSERT_NE(s.find(from), std::string::npos) << from;
+    s.replace(s.find(from), from.size(), to);
+    std::ofstream(settings / file) << s;
+  };
+  const std::string base = "--scene " + scene("empty") + " --planner-config " + settings.string() + " --out ";
+  edit("pipeline.yaml", "  midend_s: 0.1 ", "  midend_s: 0.25 ");
+  ASSERT_EQ(run(base + (dir_ / "a.json").string()), 0) << file("stderr.txt");
+  EXPECT_EQ(nlohmann::json::parse(file("a.json"))["budgets_ms"]["midend"], 250.0);
+  ASSERT_EQ(run(base + (dir_ / "b.json").string() + " --midend-budget-ms 50"), 0) << file("stderr.txt");
+  EXPECT_EQ(nlohmann::json::parse(file("b.json"))["budgets_ms"]["midend"], 50.0);
+  EXPECT_EQ(nlohmann::json::parse(file("b.json"))["budgets_ms"]["frontend"], 1000.0);  // the file's
+
+  edit("midend.yaml", "  memory_size: 32", "  memory_size: 100");
+  EXPECT_EQ(run(base + (dir_ / "c.json").string()), 3);
+  EXPECT_NE(file("stderr.txt").find("midend.yaml"), std::string::npos) << file("stderr.txt");
+  EXPECT_NE(file("stderr.txt").find("solver.memory_size"), std::string::npos) << file("stderr.txt");
+  const auto doc = nlohmann::json::parse(file("c.json"));
+  EXPECT_EQ(doc["status"], "bad_input");
+  EXPECT_EQ(doc["exit_code"], 3);
 }
 
 }  // namespace
