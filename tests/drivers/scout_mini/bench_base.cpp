@@ -31,7 +31,7 @@
 #include <pthread.h>
 #include <sched.h>
 
-#include "../can/private_lcm_url.hpp"
+#include "private_lcm_url.hpp"
 #include "node_harness.hpp"
 #include "porter/can/memory_bus.hpp"
 #include "porter/runtime/log.hpp"

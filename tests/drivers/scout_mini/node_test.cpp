@@ -8,7 +8,7 @@
 #include <mutex>
 #include <vector>
 
-#include "../can/private_lcm_url.hpp"
+#include "private_lcm_url.hpp"
 #include "node_harness.hpp"
 
 namespace porter::scout_mini {

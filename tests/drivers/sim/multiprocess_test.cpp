@@ -26,7 +26,7 @@
 #include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
-#include "../can/private_lcm_url.hpp"
+#include "private_lcm_url.hpp"
 
 extern char** environ;
 
