@@ -47,11 +47,13 @@ void Mapper::set_robot(const RobotModel& robot) {
   self_ = params_.self_filter ? std::make_unique<SelfFilter>(robot, params_.self) : nullptr;
 }
 
-FilterStats Mapper::filter(const SensorCloud& cloud, const StateBuffer& states, FilteredCloud& out) {
+FilterStats Mapper::filter(const SensorCloud& cloud, const StateBuffer& states, FilteredCloud& out,
+                           std::vector<std::uint8_t>* self_removed) {
   const auto t0 = std::chrono::steady_clock::now();
   FilterStats st;
   const std::size_t n = std::min({cloud.x_m.size(), cloud.y_m.size(), cloud.z_m.size(), cloud.time_offset_ns.size()});
   st.points_in = n;
+  if (self_removed) self_removed->assign(n, 0);
   out.points_W.clear();
   out.points_W.reserve(n);
   std::int32_t off_min = 0, off_max = 0;
@@ -85,6 +87,7 @@ FilterStats Mapper::filter(const SensorCloud& cloud, const StateBuffer& states, 
       }
       if (self_->contains(p_B)) {
         ++st.self;
+        if (self_removed) (*self_removed)[i] = 1;
         continue;
       }
     }

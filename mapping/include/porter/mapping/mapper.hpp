@@ -91,8 +91,10 @@ class Mapper {
   Mapper(const RobotModel& robot, const MapperParams& params);
   ~Mapper();
 
-  /// Filters one scan (see above) into `out`.
-  FilterStats filter(const SensorCloud& cloud, const StateBuffer& states, FilteredCloud& out);
+  /// Filters one scan (see above) into `out`. `self_removed`, when given, receives one flag per
+  /// input point: 1 when the self-filter removed it (for tests and diagnostics).
+  FilterStats filter(const SensorCloud& cloud, const StateBuffer& states, FilteredCloud& out,
+                     std::vector<std::uint8_t>* self_removed = nullptr);
   /// Integrates a filtered scan.
   CloudReport integrate(const FilteredCloud& cloud);
   /// filter() then integrate().
