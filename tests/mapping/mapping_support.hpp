@@ -120,7 +120,7 @@ class SimDrive {
 /// A lane of the forest along +x from x = 0 to x_end at which every obstacle's footprint stays
 /// at least `clearance` from the base's path.
 inline double clear_lane(const Scene& scene, double x_end, double clearance) {
-  for (double y : {0.0, -0.5, 0.5, -1.0, 1.0, -1.5, 1.5, -2.0, 2.0}) {
+  for (double y = 0.0; std::abs(y) < 3.5; y = y > 0.0 ? -y : 0.1 - y) {
     bool ok = true;
     for (double x = 0.0; x <= x_end && ok; x += 0.05) {
       for (const CollisionShape& o : scene.obstacles) ok = ok && footprint_distance(o, {x, y}) >= clearance;
