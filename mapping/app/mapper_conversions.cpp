@@ -6,11 +6,20 @@
 
 namespace porter::mapping::app {
 
+namespace {
+// Times are µs since the epoch; anything past year ~2200 is corrupt (and would overflow sums).
+constexpr std::int64_t kMaxUtime = std::int64_t{1} << 53;
+}  // namespace
+
 bool to_sensor_cloud(const porter::point_cloud_t& msg, SensorCloud& out, std::string& why) {
   const auto n = static_cast<std::size_t>(msg.num_points);
   if (msg.num_points < 0 || msg.x_m.size() != n || msg.y_m.size() != n || msg.z_m.size() != n ||
       msg.time_offset_ns.size() != n) {
     why = "cloud arrays disagree with num_points " + std::to_string(msg.num_points);
+    return false;
+  }
+  if (msg.utime < 0 || msg.utime > kMaxUtime) {
+    why = "utime " + std::to_string(msg.utime) + " out of range";
     return false;
   }
   for (std::int32_t t : msg.time_offset_ns) {
@@ -28,6 +37,10 @@ bool to_sensor_cloud(const porter::point_cloud_t& msg, SensorCloud& out, std::st
 }
 
 bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out, std::string& why) {
+  if (msg.utime < 0 || msg.utime > kMaxUtime) {
+    why = "utime " + std::to_string(msg.utime) + " out of range";
+    return false;
+  }
   if (!std::isfinite(msg.x_m) || !std::isfinite(msg.y_m) || !std::isfinite(msg.yaw_rad)) {
     why = "non-finite base pose";
     return false;

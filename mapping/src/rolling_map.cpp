@@ -33,6 +33,7 @@ RollingMap::RollingMap(const RollingMapParams& params)
 }
 
 bool RollingMap::needs_recenter(double x_m, double y_m, double distance_m) const {
+  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return false;
   const double cx = (window_min_.x() - kKeyOffset + 0.5 * params_.dims.x()) * params_.resolution_m;
   const double cy = (window_min_.y() - kKeyOffset + 0.5 * params_.dims.y()) * params_.resolution_m;
   return std::abs(x_m - cx) > distance_m || std::abs(y_m - cy) > distance_m;
@@ -52,6 +53,8 @@ void RollingMap::clear_plane(int axis, int s) {
 }
 
 bool RollingMap::center_on(double x_m, double y_m) {
+  const double limit = (kKeyOffset / 2) * params_.resolution_m;  // keeps every window key valid
+  if (!(std::abs(x_m) < limit && std::abs(y_m) < limit)) return false;
   const Eigen::Vector3i& n = params_.dims;
   const int new_min[2] = {key_of(x_m) - n.x() / 2, key_of(y_m) - n.y() / 2};
   bool moved = false;
@@ -163,11 +166,14 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
                                      const IntegrateOptions& options) {
   IntegrateStats stats;
   stats.points = points_W.size();
-  const Eigen::Vector3i key_origin = key_of(origin_W.cast<double>());
-  if (!in_window(key_origin)) {
+  // Keys exist for |coord| < 32767 voxels; the window lies well inside that.
+  const float key_limit = static_cast<float>((kKeyOffset - 2) * params_.resolution_m);
+  const auto representable = [&](const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < key_limit; };
+  if (!representable(origin_W) || !in_window(key_of(origin_W.cast<double>()))) {
     stats.origin_outside = true;
     return stats;
   }
+  const Eigen::Vector3i key_origin = key_of(origin_W.cast<double>());
   occupied_list_.clear();
   free_list_.clear();
   end_list_.clear();
@@ -177,6 +183,10 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
 
   // Pass 1: classify, mark hit voxels (hits win over misses), one ray per endpoint voxel.
   for (const Eigen::Vector3f& p : points_W) {
+    if (!p.allFinite()) {
+      ++stats.invalid;
+      continue;
+    }
     Eigen::Vector3f end = p;
     bool hit = true;
     if (max_range >= 0.0f && (p - origin_W).norm() > max_range) {
@@ -186,6 +196,10 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
     } else if (p.z() < ground) {
       hit = false;
       ++stats.ground;
+    }
+    if (!representable(end)) {
+      ++stats.invalid;
+      continue;
     }
     const Eigen::Vector3i key = key_of(end.cast<double>());
     if (!in_window(key)) {

@@ -90,13 +90,18 @@ class SimDrive {
     rays_.clear();
     lidar_->advance(t0, t1, packets_, &rays_);
     SimCloud out;
-    out.cloud.utime = kEpochUs + static_cast<std::int64_t>(std::llround(t0 * 1e6));
+    // A packet sent just after t0 holds points from just before it: the cloud starts at its
+    // first point, as porter-lidar stamps it.
+    double t_first = t1;
+    for (const livox::sim::SimRay& r : rays_) t_first = std::min(t_first, r.t_s);
+    const std::int64_t first_us = static_cast<std::int64_t>(std::floor(t_first * 1e6));
+    out.cloud.utime = kEpochUs + first_us;
     for (const livox::sim::SimRay& r : rays_) {
       if (!r.returned) continue;
       out.cloud.x_m.push_back(r.point_S.x());
       out.cloud.y_m.push_back(r.point_S.y());
       out.cloud.z_m.push_back(r.point_S.z());
-      out.cloud.time_offset_ns.push_back(static_cast<std::int32_t>(std::llround((r.t_s - t0) * 1e9)));
+      out.cloud.time_offset_ns.push_back(static_cast<std::int32_t>(std::llround((r.t_s - first_us * 1e-6) * 1e9)));
       out.rays.push_back(r);
     }
     for (; state_k_ * 0.01 <= t1 + 0.0100001; ++state_k_) {

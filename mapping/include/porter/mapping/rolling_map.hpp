@@ -58,6 +58,7 @@ struct IntegrateStats {
   std::uint64_t ground = 0;          ///< points below the ground height
   std::uint64_t beyond_range = 0;    ///< points past max_range_m
   std::uint64_t outside_window = 0;  ///< hits whose voxel lies outside the window
+  std::uint64_t invalid = 0;         ///< non-finite, or beyond OctoMap's key range: ignored
   std::uint64_t rays = 0;            ///< rays cast after deduplication
   std::uint64_t occupied_updates = 0;
   std::uint64_t free_updates = 0;
@@ -93,7 +94,8 @@ class RollingMap {
   }
 
   /// Moves the window so that (x, y) lies at its centre in x and y (z stays); voxels leaving
-  /// the window are forgotten. Returns true when the window moved.
+  /// the window are forgotten. A position past half the key range (or not finite) is ignored.
+  /// Returns true when the window moved.
   bool center_on(double x_m, double y_m);
   /// True when (x, y) is farther than distance_m (per axis) from the window's centre.
   bool needs_recenter(double x_m, double y_m, double distance_m) const;
