@@ -24,7 +24,7 @@
 // the space above it); every other point is a hit. Endpoints outside the window give only the
 // free part of their ray inside the window.
 //
-// Frames and units: world frame W, metres. Memory: 5 bytes per voxel of the window.
+// Frames and units: world frame W, metres. Memory: 4.25 bytes per voxel of the window.
 // Thread-safety: none (one thread integrates; const queries may run while nothing writes).
 
 #include <cmath>
@@ -141,8 +141,9 @@ class RollingMap {
   Eigen::Vector3i window_min_;
   std::int64_t stride_y_, stride_z_;
   std::vector<float> log_odds_;        ///< NaN = unknown
-  std::vector<std::uint8_t> marks_;    ///< per-cloud scratch, all zero between clouds
-  std::vector<std::int64_t> occupied_list_, free_list_, end_list_;
+  std::vector<std::uint64_t> touched_;  ///< per-cloud: hit or free in this cloud (zero between)
+  std::vector<std::uint64_t> ray_end_;  ///< per-cloud: a free-only ray ends here (zero between)
+  std::vector<std::int64_t> occupied_list_, end_list_;
   std::vector<Eigen::Vector3f> ray_ends_;
   float hit_log_, miss_log_, clamp_min_log_, clamp_max_log_, occupancy_log_;
 };
