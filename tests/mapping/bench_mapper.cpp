@@ -1,6 +1,9 @@
 // porter-bench-mapper: the mapper against stock OctoMap on the same clouds.
 //
-//   porter-bench-mapper [--clouds N] [--stock-clouds M]
+//   porter-bench-mapper [--clouds N] [--stock-clouds M] [--pcl]
+//
+// --pcl: instead, the PCL voxel grid and statistical outlier removal at 0.05 m, their cost and
+// what they change in the map.
 //
 // Fixtures (do not change them, or figures stop being comparable): the simulated MID-360 as
 // shipped on the robot carrying the long bar, noiseless, 200,000 points/s in 10 Hz clouds,
@@ -184,17 +187,59 @@ void run(const char* scene, const Recorded& rec, const porter::RobotModel& robot
   std::fflush(stdout);
 }
 
+/// The PCL filters on: filter and integrate CPU per cloud and the occupied voxels against the
+/// run without them (agreement = |both| / |without|, extra = |with only| / |without|).
+void run_pcl(const char* scene, const Recorded& rec, const porter::RobotModel& robot, pm::app::MapperConfig cfg,
+             const char* variant, double leaf_m, int mean_k) {
+  cfg.mapper.recenter_distance_m = 100.0;
+  pm::Mapper base(robot, cfg.mapper);
+  cfg.mapper.voxel_grid_leaf_m = leaf_m;
+  cfg.mapper.outlier_mean_k = mean_k;
+  pm::Mapper with(robot, cfg.mapper);
+  pm::StateBuffer states;
+  double filter_cpu = 0.0, integ_cpu = 0.0, removed = 0.0;
+  for (std::size_t k = 0; k < rec.clouds.size(); ++k) {
+    for (const auto& [t, c] : rec.states[k]) states.add(t, c);
+    base.process(rec.clouds[k], states);
+    pm::FilteredCloud f;
+    const double t0 = cpu_s();
+    const pm::FilterStats fs = with.filter(rec.clouds[k], states, f);
+    const double t1 = cpu_s();
+    with.integrate(f);
+    integ_cpu += cpu_s() - t1;
+    filter_cpu += t1 - t0;
+    removed += static_cast<double>(fs.voxel_grid_removed + fs.outliers);
+  }
+  std::int64_t without = 0, both = 0, only_with = 0;
+  base.map().for_each_known([&](const Eigen::Vector3i& key, float v) {
+    const bool a = base.map().occupied(v);
+    const bool b = with.map().state(key) == pm::VoxelState::occupied;
+    without += a;
+    both += a && b;
+  });
+  with.map().for_each_known([&](const Eigen::Vector3i& key, float v) {
+    only_with += with.map().occupied(v) && base.map().state(key) != pm::VoxelState::occupied;
+  });
+  const double n = static_cast<double>(rec.clouds.size());
+  std::printf("%-7s %-22s %8.2f %8.2f %9.0f %8.2f%% %7.2f%%\n", scene, variant, 1e3 * filter_cpu / n, 1e3 * integ_cpu / n,
+              removed / n, 100.0 * both / std::max<std::int64_t>(1, without), 100.0 * only_with / std::max<std::int64_t>(1, without));
+  std::fflush(stdout);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int clouds = 30, stock_clouds = 10;
+  bool pcl = false;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--clouds") && i + 1 < argc) {
       clouds = std::atoi(argv[++i]);
+    } else if (!std::strcmp(argv[i], "--pcl")) {
+      pcl = true;
     } else if (!std::strcmp(argv[i], "--stock-clouds") && i + 1 < argc) {
       stock_clouds = std::atoi(argv[++i]);
     } else {
-      std::fprintf(stderr, "usage: porter-bench-mapper [--clouds N] [--stock-clouds M]\n");
+      std::fprintf(stderr, "usage: porter-bench-mapper [--clouds N] [--stock-clouds M] [--pcl]\n");
       return 2;
     }
   }
@@ -213,6 +258,16 @@ int main(int argc, char** argv) {
                                      {Waypoint{0.0, pm::test::config_at(0.0, lane, 0.0)},
                                       Waypoint{T, pm::test::config_at(0.8 * T, lane, 0.0)}},
                                      cfg.mapper.T_B_S, clouds);
+  if (pcl) {
+    std::printf("PCL filters at 0.05 m: CPU ms per cloud, points removed per cloud, occupied voxels vs without\n");
+    std::printf("scene   variant                  filter    integ   removed    agree   extra\n");
+    for (const Recorded* r : {&room_rec, &forest_rec}) {
+      const char* name = r == &room_rec ? "room" : "forest";
+      run_pcl(name, *r, robot, cfg, "voxel grid 0.05", 0.05, 0);
+      run_pcl(name, *r, robot, cfg, "outliers k=8 x1.0", 0.0, 8);
+    }
+    return 0;
+  }
   std::printf("scene     res    pts  filter   integ     map  mapper pts/s  CPU@200k |  stock ms   speedup |  c2m med/max ms | stream B\n");
   for (double res : {0.1, 0.05}) {
     run("room", room_rec, robot, cfg, res, stock_clouds);
