@@ -9,6 +9,7 @@
 
 #include "pipeline_fixtures.hpp"
 #include "porter/pipeline/exact_acceptance.hpp"
+#include "porter/planner/collision/kernel_robot.hpp"
 
 namespace porter::pipeline {
 namespace {
@@ -54,14 +55,20 @@ struct Fixture {
 TEST(ExactAcceptance, ClearanceFollowsTheObstacleAndTheVerdictSwitchesAtTheMargin) {
   const Fixture f;
   planner::AcceptanceResult r;
+  // With the wall far away the payload's height over the ground is the clearance; the wall cases
+  // below stay under it.
+  const ExactClearance ground = f.clearance(10.0, 0.0, &r);
+  ASSERT_EQ(ground.obstacle, "ground");
   const ExactClearance near = f.clearance(1.0, 0.0, &r);
   ASSERT_TRUE(r.accepted);
   ASSERT_EQ(near.obstacle, "wall");
-  ASSERT_GT(near.min_m, 0.05);
-  ASSERT_LT(near.min_m, 1.0);
-  // The nearest body faces the wall's flat side: moving the wall 7 cm away adds 7 cm.
-  const ExactClearance far = f.clearance(1.07, 0.0, &r);
-  EXPECT_NEAR(far.min_m - near.min_m, 0.07, 1e-4);
+  ASSERT_GT(near.min_m, 0.0);
+  const double d = 0.5 * (ground.min_m - near.min_m);
+  ASSERT_GT(d, 0.005);
+  // The nearest body faces the wall's flat side: moving the wall d farther adds d.
+  const ExactClearance far = f.clearance(1.0 + d, 0.0, &r);
+  EXPECT_EQ(far.obstacle, "wall");
+  EXPECT_NEAR(far.min_m - near.min_m, d, 1e-4);
   // The margin decides.
   f.clearance(1.0, near.min_m - 1e-3, &r);
   EXPECT_TRUE(r.accepted);
@@ -78,6 +85,45 @@ TEST(ExactAcceptance, AWallThroughTheRobotIsACollision) {
   EXPECT_FALSE(r.accepted);
   EXPECT_LT(c.min_m, 0.0);
   EXPECT_GE(r.link, 0);
+}
+
+// The kernel filter only decides where exact checks are needed: with it, the verdicts are those of
+// the exact check over the whole trajectory, on a trajectory that drives the robot towards the wall.
+TEST(ExactAcceptance, TheKernelFilterKeepsTheExactVerdict) {
+  const Fixture f;
+  const RobotModel with_payload = attach_payload(f.bare, f.payload);
+  PlannerSettings settings = testing::shipped_settings(f.bridge);
+  const auto kernel_robot = std::make_shared<const planner::KernelRobot>(with_payload, settings.kernels);
+  // 1.5 m forward in 3 s (a quintic from rest to rest along the base's x axis).
+  const RobotConfiguration& s0 = f.bridge.start;
+  const Eigen::Vector2d dir(std::cos(s0.base.yaw_rad), std::sin(s0.base.yaw_rad));
+  TrajectoryPiece p;
+  p.duration_s = 3.0;
+  p.coeffs.row(0) << s0.base.x_m, s0.base.y_m, s0.q_rad.transpose();
+  const double L = 1.5, T = 3.0;  // x(t) = L (10 u^3 - 15 u^4 + 6 u^5), u = t / T
+  const double a3 = 10.0 * L / (T * T * T), a4 = -15.0 * L / (T * T * T * T), a5 = 6.0 * L / (T * T * T * T * T);
+  p.coeffs.block<1, 2>(3, 0) = a3 * dir.transpose();
+  p.coeffs.block<1, 2>(4, 0) = a4 * dir.transpose();
+  p.coeffs.block<1, 2>(5, 0) = a5 * dir.transpose();
+  TrajectoryResult tr = Trajectory::create({p}, s0.base.yaw_rad);
+  ASSERT_TRUE(tr.trajectory.has_value()) << tr.error;
+  int accepted = 0, rejected = 0;
+  for (double gap : {1.6, 2.505, 2.515, 2.6, 3.5}) {
+    const Scene scene = f.with_wall(gap);
+    ExactAcceptanceSettings es;
+    es.margin_m = 0.02;
+    const ExactClearanceAcceptance slow(f.bare, f.payload, scene, es);
+    const ExactClearanceAcceptance fast(f.bare, f.payload, scene, es, kernel_robot, voxelize(scene));
+    ExactClearance cs, cf;
+    const planner::AcceptanceResult rs = slow.check(*tr.trajectory, &cs);
+    const planner::AcceptanceResult rf = fast.check(*tr.trajectory, &cf);
+    EXPECT_EQ(rs.accepted, rf.accepted) << "gap " << gap << ": exact " << cs.min_m << " m";
+    EXPECT_GT(cf.filter_samples, 10);
+    (rs.accepted ? accepted : rejected)++;
+    if (gap >= 3.5) EXPECT_EQ(cf.windows, 0) << "far from the wall the filter clears everything";
+  }
+  EXPECT_GT(accepted, 0);
+  EXPECT_GT(rejected, 0);
 }
 
 TEST(ExactAcceptance, StatesItsMarginAndRefusesABadOne) {
