@@ -50,7 +50,7 @@ struct PlanArgs {
   std::optional<bool> self_collision_term;
   /// The final acceptance test: exact (FCL against the scene's obstacles, clearance >= the margin)
   /// or kernels (the kernel trajectory check on the voxel map).
-  AcceptanceArg acceptance = AcceptanceArg::kExact;
+  AcceptanceArg acceptance = AcceptanceArg::kKernels;
   double clearance_margin_m = 0.02;  ///< --clearance-margin-m, with --acceptance exact
   std::optional<std::string> out_path;
   bool quiet = false;

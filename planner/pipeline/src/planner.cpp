@@ -122,12 +122,18 @@ void Planner::prepare_backend() {
     // inflation, or the exact clearance margin of a test that states one. The obstacles lie inside
     // their occupied voxels, so a link whose distance to every voxel box is at least the margin
     // keeps it to the obstacles too; a trajectory with a zero penalty then passes the test.
-    std::array<double, kNumLinks> inflation{};
+    // The ground keeps the kernel-derived margin either way: the exact test's kernel filter does
+    // not dilate the ground, and with the margin alone the payload was left grazing it.
+    std::array<double, kNumLinks> inflation{}, kernel_inflation{};
     const double margin_m = acceptance_->clearance_margin_m();
-    for (int j = 0; j < kNumLinks; ++j)
+    for (int j = 0; j < kNumLinks; ++j) {
+      kernel_inflation[static_cast<std::size_t>(j)] = kernels_->inflation_bound_m(j);
       inflation[static_cast<std::size_t>(j)] = margin_m >= 0.0 ? margin_m : kernels_->inflation_bound_m(j);
+    }
     setup_.safety_margin_m = margin_m;
-    backend::apply_recheck_margins(backend::recheck_margins(inflation, kernel_robot_->resolution_m(), *sdf_), terms.svsdf);
+    backend::RecheckMargins margins = backend::recheck_margins(inflation, kernel_robot_->resolution_m(), *sdf_);
+    margins.ground_m = backend::recheck_margins(kernel_inflation, kernel_robot_->resolution_m(), *sdf_).ground_m;
+    backend::apply_recheck_margins(margins, terms.svsdf);
     if (p.self_collision_term) {
       // The self-collision penalty on the pairs the acceptance test examines.
       const planner::SelfCollisionChecker& self = kernel_robot_->self_collision();

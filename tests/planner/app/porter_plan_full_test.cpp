@@ -58,10 +58,17 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   EXPECT_EQ(doc["format"], "porter-plan-result/4");
   EXPECT_EQ(doc["safety"], "svsdf_per_link");
   EXPECT_TRUE(doc["backend"].is_null());
-  // The default acceptance: exact geometry with a 2 cm margin, recorded in the result.
-  EXPECT_EQ(doc["acceptance"], "exact");
-  EXPECT_DOUBLE_EQ(doc["clearance_margin_m"].get<double>(), 0.02);
-  EXPECT_EQ(doc["final_check"]["checker"], "exact");
+  // The default acceptance is the kernel check (no margin stated); --acceptance exact with its
+  // margin is recorded in the result and names the final check.
+  EXPECT_EQ(doc["acceptance"], "kernels");
+  EXPECT_TRUE(doc["clearance_margin_m"].is_null());
+  EXPECT_EQ(run(base + "--acceptance exact --clearance-margin-m 0.03 --out " + (dir_ / "x.json").string()), 0)
+      << file("stderr.txt");
+  const auto exact = nlohmann::json::parse(file("x.json"));
+  EXPECT_EQ(exact["acceptance"], "exact");
+  EXPECT_DOUBLE_EQ(exact["clearance_margin_m"].get<double>(), 0.03);
+  EXPECT_EQ(exact["final_check"]["checker"], "exact");
+  EXPECT_TRUE(exact["final_check"]["collision_free"].get<bool>());
   EXPECT_EQ(doc["final_check"]["stage"], "midend");
   EXPECT_TRUE(doc["final_check"]["collision_free"].get<bool>());
 }
