@@ -13,8 +13,8 @@
 // Running: every step_s on absolute deadlines, LCM is dispatched (SIM_COMMAND is applied at once
 // and its outcome logged) and the simulation is stepped to the monotonic time since start, so
 // simulated time follows wall time (real-time factor 1) whatever an individual step costs; a
-// status line every status_period_s gives the simulated / wall time ratio, the share of one
-// core the steps used, the frame counts per bus and the LiDAR's rays, packets and send failures.
+// status line every status_period_s gives the simulated / wall time ratio, the process's CPU
+// time as a share of one core, the share of wall time spent stepping (preemption included), the frame counts per bus and the LiDAR's rays, packets and send failures.
 //
 // Failure: the constructor throws porter::LoadError for a bad scene, robot or payload file;
 // a bus or LiDAR socket that cannot be opened, or an Embree failure, makes ok() false with
@@ -56,6 +56,8 @@ class SimProcess {
   /// stepping (valid after run()).
   double real_time_factor() const { return rtf_; }
   double busy_fraction() const { return busy_; }
+  /// Process CPU time (all threads) per wall second over the run.
+  double cpu_fraction() const { return cpu_; }
 
  private:
   SimConfig config_;
@@ -67,6 +69,7 @@ class SimProcess {
   std::string error_;
   double rtf_ = 0.0;
   double busy_ = 0.0;
+  double cpu_ = 0.0;
 };
 
 }  // namespace porter::sim

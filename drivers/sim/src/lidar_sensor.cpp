@@ -1,8 +1,19 @@
 #include "porter/sim/lidar_sensor.hpp"
 
+#include <time.h>
+
 #include <chrono>
 
 namespace porter::sim {
+namespace {
+
+double thread_cpu_s() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+}  // namespace
 
 LidarSensor::LidarSensor(const livox::sim::Mid360SimParams& params, const World& world,
                          PacketSink sink)
@@ -15,6 +26,7 @@ LidarSensor::LidarSensor(const livox::sim::Mid360SimParams& params, const World&
 }
 
 void LidarSensor::advance(const World& world, double t0_s, double t1_s) {
+  const double cpu0 = thread_cpu_s();
   world_ = &world;
   if (!started_) {
     started_ = true;
@@ -33,6 +45,7 @@ void LidarSensor::advance(const World& world, double t0_s, double t1_s) {
   packets_.clear();
   lidar_->advance(t0_s, t1_s, packets_);
   if (!packets_.empty() && sink_) sink_(packets_);
+  cpu_s_ += thread_cpu_s() - cpu0;
 }
 
 }  // namespace porter::sim

@@ -53,6 +53,8 @@ class LidarSensor final : public SimSensor {
   /// Rebuilds of the obstacle scene after world changes, and the time the last one took, s.
   std::uint64_t rebuilds() const { return rebuilds_; }
   double last_rebuild_s() const { return last_rebuild_s_; }
+  /// CPU time of the calling thread spent in advance() (ray casting, packets, the sink), s.
+  double cpu_s() const { return cpu_s_; }
 
  private:
   const World* world_;
@@ -63,6 +65,7 @@ class LidarSensor final : public SimSensor {
   bool started_ = false;
   std::uint64_t rebuilds_ = 0;
   double last_rebuild_s_ = 0.0;
+  double cpu_s_ = 0.0;
 };
 
 }  // namespace porter::sim
