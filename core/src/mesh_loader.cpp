@@ -72,7 +72,7 @@ std::string check_imported(const aiScene& scene) {
     if (mesh->mNumFaces > 0 && mesh->mFaces == nullptr) return "mesh " + std::to_string(m) + " has no face array";
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices > 0 && face.mIndices == nullptr)
+      if (face.mNumIndices == 0 || face.mIndices == nullptr)
         return "face " + std::to_string(f) + " of mesh " + std::to_string(m) + " has no indices";
       for (unsigned k = 0; k < face.mNumIndices; ++k)
         if (face.mIndices[k] >= mesh->mNumVertices)
@@ -81,6 +81,22 @@ std::string check_imported(const aiScene& scene) {
     }
   }
   return {};
+}
+
+// The primitive types each mesh declares, recomputed from its faces. Importers can declare a
+// type no face has (a PLY "polygon" mesh of triangles), and assimp's post-processing asserts on
+// the declaration (TriangulateProcess: numOut != mNumFaces, an abort).
+void fix_primitive_types(aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh& mesh = *scene.mMeshes[m];
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const unsigned n = mesh.mFaces[f].mNumIndices;
+      types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE
+                                                                                 : aiPrimitiveType_POLYGON;
+    }
+    mesh.mPrimitiveTypes = types;
+  }
 }
 
 }  // namespace
@@ -107,6 +123,8 @@ MeshPtr load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
     throw LoadError(path, "", std::string("unreadable mesh: ") + importer.GetErrorString());
   if (const std::string bad = check_imported(*scene); !bad.empty())
     throw LoadError(path, "", "malformed mesh: " + bad);
+  // The importer owns the scene and post-processing rewrites it in place anyway.
+  fix_primitive_types(const_cast<aiScene&>(*scene));
   scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices |
                                        aiProcess_SortByPType);
   if (scene == nullptr)
