@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <algorithm>
 #include <fstream>
+#include <iterator>
 #include <random>
 #include <string>
 
@@ -85,6 +86,25 @@ TEST_F(HostileMeshes, DirectoriesAndHugeCoordinatesAreRefused) {
   expect_refused(dir_.string(), "not a regular file");
   expect_refused(write("far.ply", tetra_ply()), "beyond 10000 m", Eigen::Vector3d::Constant(1e9));
   expect_refused(write("scale.ply", tetra_ply()), "scale", Eigen::Vector3d(1, -1, 1));
+}
+
+
+// Found by the fuzzer: a PLY whose importer declared polygons it did not have made assimp's
+// TriangulateProcess assert (abort). The input is kept in the fuzz corpus (after its mode byte).
+TEST_F(HostileMeshes, DeclaredPolygonsWithoutPolygonsDoNotAbort) {
+  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_triangulate_assert",
+                   std::ios::binary);
+  ASSERT_TRUE(in);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1u);
+  const std::string path = write("regression.ply", bytes.substr(1));
+  try {
+    const MeshPtr mesh = load_mesh(path);
+    ASSERT_TRUE(mesh);
+    EXPECT_FALSE(mesh->triangles.empty());
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.file(), path);
+  }
 }
 
 }  // namespace
