@@ -118,7 +118,8 @@ PlanArgs parse_plan_args(int argc, const char* const* argv) {
       else throw ArgsError("--stages: expected front, mid or full, got '" + s + "'");
     } else if (flag == "--frontend-budget-ms" || flag == "--midend-budget-ms" || flag == "--backend-budget-ms") {
       const double ms = parse_number(flag, value());
-      if (!(ms > 0.0)) throw ArgsError(flag + " must be > 0");
+      // Above an hour a stage budget is a unit mistake, not a plan anyone waits for.
+      if (!(ms > 0.0 && ms <= 3.6e6)) throw ArgsError(flag + " must be in (0, 3600000] ms");
       (flag == "--frontend-budget-ms" ? a.frontend_budget_ms
                                       : flag == "--midend-budget-ms" ? a.midend_budget_ms : a.backend_budget_ms) = ms;
     } else if (flag == "--backend-iterations") {

@@ -134,7 +134,9 @@ int main(int argc, char** argv) {
   try {
     planner = std::make_unique<pipeline::Planner>(model, settings);
   } catch (const std::exception& e) {  // a resolution or setting the kernels cannot use
-    return fail(kBadFile, std::string("scene ") + args.scene_path + ": " + e.what());
+    // The robot side (kernels, self-collision proofs) is built here, at the scene's resolution.
+    return fail(kBadFile, "robot " + *args.robot_path + (info.payload_file.empty() ? "" : " with payload " + info.payload_file) +
+                              " at the scene's resolution (" + args.scene_path + "): " + e.what());
   }
   info.checker = planner->frontend_checker().name();
   const OccupancyGrid grid_W = voxelize(scene);

@@ -3,6 +3,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 #include "goal.hpp"
@@ -28,9 +29,21 @@ Eigen::AlignedBox2d map_xy(const OccupancyGrid& grid) {
   return Eigen::AlignedBox2d(b.min().head<2>(), b.max().head<2>());
 }
 
-/// Why the start state cannot be used by the mid-end ("" when it can): a moving base must move
-/// along its heading.
-std::string start_state_problem(const StartState& s) {
+/// Why the start state cannot be planned from ("" when it can): finite, a wrapped heading, on the
+/// map, and a moving base must move along its heading.
+std::string start_state_problem(const StartState& s, const Eigen::AlignedBox2d& map_xy_W) {
+  const auto& b = s.config.base;
+  if (!std::isfinite(b.x_m) || !std::isfinite(b.y_m) || !std::isfinite(b.yaw_rad) || !s.config.q_rad.allFinite())
+    return "start pose or joint angles not finite";
+  // A heading is an angle in (-pi, pi] up to a few turns; anything larger is a unit or wrapping
+  // mistake upstream, and would cost precision in every yaw the stages derive from it.
+  if (std::abs(b.yaw_rad) > 1e3) return "start yaw " + std::to_string(b.yaw_rad) + " rad is not a wrapped heading";
+  if (!map_xy_W.contains(Eigen::Vector2d(b.x_m, b.y_m))) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "start base position (%.3f, %.3f) m is outside the map (x %.3f..%.3f, y %.3f..%.3f m)",
+                  b.x_m, b.y_m, map_xy_W.min().x(), map_xy_W.max().x(), map_xy_W.min().y(), map_xy_W.max().y());
+    return buf;
+  }
   if (!s.velocity.allFinite() || !s.acceleration.allFinite()) return "start velocity or acceleration not finite";
   const Eigen::Vector2d v = s.velocity.head<2>();
   const double speed = v.norm();
@@ -160,7 +173,7 @@ PlanResult Planner::plan(const PlanRequest& req) {
   if (req.cancel && req.cancel->requested()) return finish(planner::Status::kCanceled, "canceled");
 
   // 1. The start state and the goal.
-  if (std::string why = start_state_problem(req.start); !why.empty())
+  if (std::string why = start_state_problem(req.start, map_xy(map_W_)); !why.empty())
     return finish(planner::Status::kInvalidStart, why);
   r.goal = detail::resolve_goal(model_, frontend_checker(), map_xy(map_W_), kernel_robot_->resolution_m(), req.goal,
                                 req.start.config.q_rad, p, req.seed);

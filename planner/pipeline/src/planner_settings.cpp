@@ -7,6 +7,10 @@
 
 namespace porter::pipeline {
 
+namespace {
+constexpr double kMaxStageBudgetS = 3600.0;
+}  // namespace
+
 bool validate_settings(const PlannerSettings& s, std::string* why) {
   auto fail = [why](const std::string& m) {
     if (why) *why = m;
@@ -15,9 +19,11 @@ bool validate_settings(const PlannerSettings& s, std::string* why) {
   auto pos = [](double v) { return std::isfinite(v) && v > 0.0; };
   auto nonneg = [](double v) { return std::isfinite(v) && v >= 0.0; };
   const PipelineSettings& p = s.pipeline;
-  if (!pos(p.frontend_budget_s)) return fail("pipeline.frontend_budget_s must be > 0");
-  if (!pos(p.midend_budget_s)) return fail("pipeline.midend_budget_s must be > 0");
-  if (!pos(p.backend_budget_s)) return fail("pipeline.backend_budget_s must be > 0");
+  // A stage budget above an hour is a unit mistake (ms given as s), not a plan anyone waits for.
+  auto budget = [&](double v) { return pos(v) && v <= kMaxStageBudgetS; };
+  if (!budget(p.frontend_budget_s)) return fail("pipeline.frontend_budget_s must be in (0, 3600] s");
+  if (!budget(p.midend_budget_s)) return fail("pipeline.midend_budget_s must be in (0, 3600] s");
+  if (!budget(p.backend_budget_s)) return fail("pipeline.backend_budget_s must be in (0, 3600] s");
   if (p.safety == baselines::SafetyModel::kSpheres)
     return fail("pipeline.safety must be kc_svsdf or svsdf_per_link (spheres follows from collision: spheres)");
   if (!(p.retry_arm_residual_scale > 0.0 && p.retry_arm_residual_scale <= 1.0))

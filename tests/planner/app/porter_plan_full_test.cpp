@@ -42,7 +42,9 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   EXPECT_EQ(run(base + "--safety"), 2);
   EXPECT_NE(file("stderr.txt").find("--safety needs a value"), std::string::npos);
   EXPECT_EQ(run(base + "--backend-budget-ms -1"), 2);
-  EXPECT_NE(file("stderr.txt").find("--backend-budget-ms must be > 0"), std::string::npos);
+  EXPECT_NE(file("stderr.txt").find("--backend-budget-ms must be in (0, 3600000] ms"), std::string::npos);
+  EXPECT_EQ(run(base + "--frontend-budget-ms 1e12"), 2);
+  EXPECT_NE(file("stderr.txt").find("--frontend-budget-ms must be in (0, 3600000] ms"), std::string::npos);
   EXPECT_EQ(run(base + "--midend-budget-ms abc"), 2);
   EXPECT_EQ(run(base + "--backend-iterations 0"), 2);
   EXPECT_EQ(run(base + "--acceptance fcl"), 2);

@@ -1,6 +1,7 @@
 // The pipeline's shared vocabulary (planner/common): the one status enum and its tokens, the
 // deadline with its cancellation flag, the angle-wrapping helper.
 #include <chrono>
+#include <limits>
 #include <cmath>
 #include <set>
 #include <string>
@@ -61,6 +62,17 @@ TEST(PlannerDeadline, AShareEndsNoLaterThanItsParent) {
   // from_now() keeps the end and restarts the clock.
   const Deadline later = Deadline(60.0).from_now();
   EXPECT_LT(later.elapsed_s(), 1.0);
+}
+
+TEST(PlannerDeadline, AHugeBudgetIsCappedNotExpired) {
+  // 1e12 s (a budget given in ms where s were meant, or +inf for "no limit") must not overflow
+  // the clock into a deadline that is already over.
+  for (const double b : {1e9, 1e12, 1e300, std::numeric_limits<double>::infinity()}) {
+    const Deadline d(b);
+    EXPECT_FALSE(d.expired()) << b;
+    EXPECT_NEAR(d.budget_s(), Deadline::kMaxBudgetS, 1.0) << b;
+  }
+  EXPECT_TRUE(Deadline(-1.0).expired());
 }
 
 TEST(PlannerAngle, WrapsToTheHalfOpenInterval) {

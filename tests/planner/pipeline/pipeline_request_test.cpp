@@ -54,6 +54,27 @@ TEST(PipelineRequest, AStartStateAgainstTheHeadingIsRefused) {
   EXPECT_EQ(reverse.status, planner::Status::kInvalidStart) << reverse.message;
 }
 
+TEST(PipelineRequest, AStartOffTheMapOrNotFiniteIsRefusedSayingSo) {
+  const Scene s = testing::scene("empty");
+  Planner planner(testing::robot_for(s), testing::shipped_settings(s));
+  ASSERT_TRUE(planner.set_map(voxelize(s)).ok);
+  PlanRequest req = testing::request(s);
+  req.start.config.base.x_m = 1e4;  // far outside the map
+  PlanResult r = planner.plan(req);
+  EXPECT_EQ(r.status, planner::Status::kInvalidStart);
+  EXPECT_NE(r.message.find("outside the map"), std::string::npos) << r.message;
+  req = testing::request(s);
+  req.start.config.base.yaw_rad = 1e11;  // never wrapped upstream
+  r = planner.plan(req);
+  EXPECT_EQ(r.status, planner::Status::kInvalidStart);
+  EXPECT_NE(r.message.find("not a wrapped heading"), std::string::npos) << r.message;
+  req = testing::request(s);
+  req.start.config.q_rad[2] = std::nan("");
+  r = planner.plan(req);
+  EXPECT_EQ(r.status, planner::Status::kInvalidStart);
+  EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
+}
+
 /// The empty scene with a wall across the map at x >= 8 + d (full height): the largest d (in
 /// voxels) at which the scene's goal configuration (x = 8) touches it.
 struct WallCase {

@@ -282,6 +282,15 @@ TEST_F(EditedSettings, ACombinationTheStageRefusesNamesTheFile) {
   EXPECT_NE(e.find("local_bias"), std::string::npos) << e;
 }
 
+TEST_F(EditedSettings, AnAbsurdBudgetIsRefusedNamingIt) {
+  // 1e9 s: milliseconds written where seconds are meant.
+  edit("pipeline.yaml", "  frontend_s: 1.0 ", "  frontend_s: 1e9 ");
+  const std::string e = error();
+  EXPECT_NE(e.find("pipeline"), std::string::npos) << e;
+  EXPECT_NE(e.find("frontend_budget_s"), std::string::npos) << e;
+  EXPECT_NE(e.find("(0, 3600]"), std::string::npos) << e;
+}
+
 TEST_F(EditedSettings, AnEditedValueIsUsed) {
   edit("pipeline.yaml", "  midend_s: 0.1 ", "  midend_s: 0.25 ");
   EXPECT_EQ(error(), "");

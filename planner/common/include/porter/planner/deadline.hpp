@@ -30,9 +30,12 @@ class CancelFlag {
 class Deadline {
  public:
   using Clock = std::chrono::steady_clock;
+  /// The longest budget a deadline holds, s (about 11.6 days: "no limit" for any plan).
+  static constexpr double kMaxBudgetS = 1e6;
 
-  /// A budget of `budget_s` seconds from now (<= 0 or non-finite: already expired), cut short
-  /// when `cancel` (optional; must outlive the deadline) is requested.
+  /// A budget of `budget_s` seconds from now, cut short when `cancel` (optional; must outlive the
+  /// deadline) is requested. A budget <= 0 or NaN is already expired; one above kMaxBudgetS
+  /// (including +inf) is capped there, so a huge budget never wraps into an expired one.
   explicit Deadline(double budget_s, const CancelFlag* cancel = nullptr) : start_(Clock::now()), cancel_(cancel) {
     end_ = start_ + duration(budget_s);
   }
@@ -67,7 +70,7 @@ class Deadline {
 
  private:
   static Clock::duration duration(double budget_s) {
-    const double b = budget_s > 0.0 && budget_s < 1e9 ? budget_s : 0.0;
+    const double b = budget_s > 0.0 ? (budget_s < kMaxBudgetS ? budget_s : kMaxBudgetS) : 0.0;
     return std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(b));
   }
 
