@@ -9,7 +9,7 @@
 //   0.5 m/s while joint 1 turns by 0.5 rad. rays/s = rays per thread-CPU second of advance();
 //   real-time factor = simulated seconds per wall second. Also world-only casts of the same
 //   rays through Embree and through core's SceneRayCaster (the exact-geometry reference).
-// driver: porter-lidar as a child process (LCM on udpm port 7763, nobody subscribed) fed S
+// driver: porter-lidar as a child process (LCM on a free udpm port, nobody subscribed) fed S
 //   seconds (default 10) of simulated packets over loopback at the real packet rate from this
 //   process; its CPU share = (utime + stime from /proc/<pid>/stat) / wall time of the feed.
 // Frozen fixture: seeds, scenes, motion and durations fixed; change them and results stop
@@ -39,6 +39,7 @@
 #include "porter/livox/udp.hpp"
 #include "porter/livox_sim/scripted_motion.hpp"
 #include "porter/livox_sim/simulated_mid360.hpp"
+#include "private_lcm_url.hpp"
 
 namespace {
 
@@ -181,7 +182,7 @@ long proc_cpu_ticks(pid_t pid) {
 void bench_driver(double seconds) {
   std::printf("\n== porter-lidar at 200,000 points/s over loopback, %.0f s per scene ==\n", seconds);
   const std::string cfg = "/tmp/porter_bench_livox_" + std::to_string(::getpid()) + ".yaml";
-  std::ofstream(cfg) << "lcm_url: \"udpm://239.255.76.67:7763?ttl=0\"\n"
+  std::ofstream(cfg) << "lcm_url: \"" + porter::test::private_lcm_url() + "\"\n"
                         "network: {address: 127.0.0.1, point_port: 57363, imu_port: 57463, receive_buffer_bytes: 4194304}\n"
          "device: {configure: false, lidar_address: 127.0.0.1, lidar_command_port: 56100, host_address: 127.0.0.1,\n"
          "         host_command_port: 56101, host_push_port: 56201, retry_period_s: 2.0}\n"

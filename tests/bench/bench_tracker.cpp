@@ -11,7 +11,7 @@
 //   - the tracking errors the tracker reported, to show it was tracking throughout.
 // Nothing here is a test; figures depend on the machine and its load.
 //
-// usage: porter-bench-tracker [--duration-s 60] [--port 7757] [--tracker PATH] [--config PATH]
+// usage: porter-bench-tracker [--duration-s 60] [--port P (default: a free port)] [--tracker PATH] [--config PATH]
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -35,6 +35,7 @@
 #include "porter/lcm_bus.hpp"
 #include "porter/msg/trajectory_msg.hpp"
 #include "porter/runtime/clock.hpp"
+#include "private_lcm_url.hpp"
 
 namespace {
 
@@ -49,7 +50,7 @@ double quantile(std::vector<double> v, double q) {
 
 int main(int argc, char** argv) {
   double duration_s = 60.0;
-  int port = 7757;
+  int port = 0;  // 0: a free port
   std::string tracker = PORTER_TRACKER_BIN;
   std::string config = std::string(PORTER_SOURCE_DIR) + "/config/tracker/porter_tracker.yaml";
   for (int i = 1; i + 1 < argc; i += 2) {
@@ -63,7 +64,8 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const std::string url = "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
+  const std::string url = port == 0 ? porter::test::private_lcm_url()
+                                    : "udpm://239.255.76.67:" + std::to_string(port) + "?ttl=0";
   const std::string stats = "/tmp/porter-bench-tracker-" + std::to_string(getpid()) + ".json";
   const std::string log = "/tmp/porter-bench-tracker-" + std::to_string(getpid()) + ".log";
 

@@ -23,11 +23,13 @@
 #include "porter/msg/trajectory_msg.hpp"
 #include "porter/runtime/clock.hpp"
 #include "trajectory_fixtures.hpp"
+#include "private_lcm_url.hpp"
 
 namespace porter {
 namespace {
 
-const std::string kUrl = "udpm://239.255.76.67:7753?ttl=0";
+// A free port: udpm traffic is host-wide, other runs of this test must not cross.
+const std::string kUrl = test::private_lcm_url();
 
 // A child process, SIGTERMed (then SIGKILLed) when the test ends whatever happens.
 class Child {

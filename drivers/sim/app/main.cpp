@@ -65,8 +65,9 @@ int main(int argc, char** argv) {
                       runtime::format_ms(runtime::mono_s() - t0));
     process.run([] { return runtime::stop_requested(); });
     runtime::log_info("stopped: real-time factor " + std::to_string(process.real_time_factor()) +
-                      ", stepping used " + std::to_string(100.0 * process.busy_fraction()) +
-                      " % of one core");
+                      ", process CPU " + std::to_string(100.0 * process.cpu_fraction()) +
+                      " % of one core, stepping took " +
+                      std::to_string(100.0 * process.busy_fraction()) + " % of wall time");
   } catch (const LoadError& e) {
     runtime::log_error(e.what());
     return 2;

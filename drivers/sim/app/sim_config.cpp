@@ -5,6 +5,7 @@
 #include <set>
 
 #include "porter/core/yaml_reader.hpp"
+#include "porter/livox_sim/sim_config.hpp"
 
 namespace porter::sim {
 namespace {
@@ -31,10 +32,43 @@ void load_scout_mini(const yaml::Reader& r, scout_mini::FirmwareParams& p) {
   p.pulses_per_motor_rev = in_range(r.get("pulses_per_motor_rev"), 1.0, 1e6, "");
 }
 
+void load_piper(const yaml::Reader& r, PiperSimConfig& p) {
+  r.expect_keys({"max_speed_radps", "max_accel_radps2", "enable_delay_s", "gripper_max_m",
+                 "gripper_speed_mps"});
+  p.max_speed_radps = in_range(r.get("max_speed_radps"), 0.01, 3.0, "rad/s");
+  p.max_accel_radps2 = in_range(r.get("max_accel_radps2"), 0.01, 1000.0, "rad/s^2");
+  p.enable_delay_s = in_range(r.get("enable_delay_s"), 0.0, 5.0, "s");
+  p.gripper_max_m = in_range(r.get("gripper_max_m"), 0.0, 0.2, "m");
+  p.gripper_speed_mps = in_range(r.get("gripper_speed_mps"), 0.001, 1.0, "m/s");
+}
+
+std::uint16_t port(const yaml::Reader& r, bool allow_zero) {
+  const int p = r.as_int();
+  if (p < (allow_zero ? 0 : 1) || p > 65535) {
+    r.fail(std::string("must be a port number in [") + (allow_zero ? "0" : "1") + ", 65535]");
+  }
+  return static_cast<std::uint16_t>(p);
+}
+
+void load_lidar(const yaml::Reader& r, const std::string& robot_path, LidarSimConfig& l) {
+  r.expect_keys({"enabled", "destination", "point_port", "imu_port", "point_source_port",
+                 "imu_source_port", "sensor"});
+  l.enabled = r.get("enabled").as_bool();
+  l.network.destination = r.get("destination").as_string();
+  if (l.network.destination.empty()) r.get("destination").fail("must not be empty");
+  l.network.point_port = port(r.get("point_port"), false);
+  l.network.imu_port = port(r.get("imu_port"), false);
+  l.network.point_source_port = port(r.get("point_source_port"), true);
+  l.network.imu_source_port = port(r.get("imu_source_port"), true);
+  // Checked (and its mount resolved against the URDF) even when disabled, so a config that
+  // turns the LiDAR on later is known to be valid now.
+  l.sensor = livox::sim::load_mid360_sim_params(r.get("sensor"), robot_path);
+}
+
 }  // namespace
 
 const std::vector<std::string>& known_device_kinds() {
-  static const std::vector<std::string> kinds = {"scout_mini"};
+  static const std::vector<std::string> kinds = {"scout_mini", "piper"};
   return kinds;
 }
 
@@ -42,7 +76,7 @@ SimConfig load_sim_config(const std::string& path) {
   const yaml::Reader root = yaml::Reader::load_file(path);
   root.expect_keys({"lcm_url", "scene", "scene_seed", "robot", "payload", "step_s", "history_s",
                     "truth_rate_hz", "lio", "arm_joints_rad", "buses", "scout_mini",
-                    "status_period_s"});
+                    "piper", "lidar", "status_period_s"});
   SimConfig c;
   c.source = path;
   c.lcm_url = root.get("lcm_url").as_string();
@@ -116,6 +150,8 @@ SimConfig load_sim_config(const std::string& path) {
     c.buses.push_back(bus);
   }
   load_scout_mini(root.get("scout_mini"), c.scout_mini);
+  load_piper(root.get("piper"), c.piper);
+  load_lidar(root.get("lidar"), c.robot_path, c.lidar);
   c.status_period_s = in_range(root.get("status_period_s"), 1.0, 3600.0, "s");
   return c;
 }

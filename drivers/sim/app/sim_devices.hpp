@@ -3,11 +3,14 @@
 //
 //   scout_mini   the Scout Mini firmware model (scout_mini/firmware.hpp); it moves the base, so
 //                the world reads the base pose from it
+//   piper        the Piper firmware model (piper/piper_firmware.hpp, hosted as SimulatedPiper,
+//                sim_piper.hpp); it moves the arm, so the world reads the joint angles from it.
+//                Joint limits from the robot model, start angles from arm_joints_rad (or the
+//                scene's start), speeds from the config's piper section.
 //
-// Adding a device (e.g. the Piper arm, porter::piper::PiperFirmware): add its kind to
-// known_device_kinds() (sim_config.cpp) and a branch to make_device() that builds the node and,
-// when it moves part of the robot, the truth source the world reads (a FunctionJointSource
-// over the firmware's joint angles for an arm); link its target to porter_sim_app.
+// Adding a device: add its kind to known_device_kinds() (sim_config.cpp) and a branch to
+// make_device() that builds the node and, when it moves part of the robot, the truth source the
+// world reads; link its target to porter_sim_app.
 //
 // Thread-safety: reentrant.
 

@@ -68,7 +68,7 @@ TEST(LcmCanBus, MalformedMessagesAreCountedAndDropped) {
 
 TEST(LcmCanBus, PollSeesFramesWaitingBehindTheNodesOwnEchoes) {
   // Own port: this test's echoes must not reach the others.
-  const std::string url = "udpm://239.255.76.67:7769?ttl=0";
+  const std::string url = porter::test::private_lcm_url();
   auto driver = open_can_bus("lcm:CAN_ARM@" + url, "porter-arm");
   auto firmware = open_can_bus("lcm:CAN_ARM@" + url, "porter-sim");
   ASSERT_TRUE(driver->is_open() && firmware->is_open());

@@ -2,9 +2,9 @@
 // the simulated sensor's point rate, field of view and packet layout as decoded and published
 // by the driver; malformed datagrams counted in the driver's HEARTBEAT.
 //
-// Ports used only here: LCM udpm 7761, 7762, 7764, 7765; UDP 57361/57461, 57362/57462,
-// 57364/57464, 57365/57465, 57399/57499 and 57564-57566 (porter-bench-livox uses 7763 and
-// 57363/57463).
+// LCM on a free udpm port per test (porter::test::private_lcm_url). UDP ports used only here:
+// 57361/57461, 57362/57462, 57364/57464, 57365/57465, 57399/57499 and 57564-57566
+// (porter-bench-livox uses 57363/57463).
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -20,6 +20,7 @@
 #include "porter/livox/udp.hpp"
 #include "process_support.hpp"
 #include "sim_support.hpp"
+#include "private_lcm_url.hpp"
 
 namespace porter::livox {
 namespace {
@@ -121,7 +122,7 @@ void collect(LcmBus& bus, Received& r, pid_t lidar_pid, double timeout_s, Done d
 }
 
 TEST(LidarProcesses, SimulatedSensorThroughTheDriverHasTheRateFieldOfViewAndLayout) {
-  const std::string url = "udpm://239.255.76.67:7761?ttl=0";
+  const std::string url = porter::test::private_lcm_url();
   const std::string scene = write("room.yaml", room_scene());
   const std::string lidar_cfg = write("lidar_a.yaml", lidar_config(url, 57361, 57461));
   const std::string sim_cfg = write("sim_a.yaml", sim_config(scene, 57361, 57461));
@@ -218,7 +219,7 @@ TEST(LidarProcesses, SimulatedSensorThroughTheDriverHasTheRateFieldOfViewAndLayo
 }
 
 TEST(LidarProcesses, MalformedDatagramsAreCountedByReasonInTheHeartbeat) {
-  const std::string url = "udpm://239.255.76.67:7762?ttl=0";
+  const std::string url = porter::test::private_lcm_url();
   const std::string lidar_cfg = write("lidar_b.yaml", lidar_config(url, 57362, 57462));
   LcmBus bus(url);
   ASSERT_TRUE(bus.good());
@@ -274,7 +275,7 @@ TEST(LidarProcesses, MalformedDatagramsAreCountedByReasonInTheHeartbeat) {
 TEST(LidarProcesses, TheDriverKeepsPublishingWhenTheSensorRestarts) {
   // A restarted sensor's clock starts again from 0: the host-clock mapping restarts and the
   // clouds go on, later than before.
-  const std::string url = "udpm://239.255.76.67:7765?ttl=0";
+  const std::string url = porter::test::private_lcm_url();
   const std::string scene = write("room_d.yaml", room_scene());
   const std::string lidar_cfg = write("lidar_d.yaml", lidar_config(url, 57365, 57465));
   const std::string sim_cfg = write("sim_d.yaml", sim_config(scene, 57365, 57465));
@@ -309,7 +310,7 @@ TEST(LidarProcesses, TheDriverKeepsPublishingWhenTheSensorRestarts) {
 TEST(LidarProcesses, TheDriverSetsUpAnIdleSensorOverItsCommandChannel) {
   // The simulated sensor starts idle, sending (once told to) to a port nobody listens on;
   // porter-lidar tells it to sample and to send to its own ports.
-  const std::string url = "udpm://239.255.76.67:7764?ttl=0";
+  const std::string url = porter::test::private_lcm_url();
   const std::string scene = write("room_c.yaml", room_scene());
   const std::string device =
       "{configure: true, lidar_address: 127.0.0.1, lidar_command_port: 57564, host_address: 127.0.0.1,\n"

@@ -17,9 +17,9 @@ using can::CanFrame;
 
 class ArmDriverOverBus : public ::testing::TestWithParam<std::string> {
  protected:
-  std::string spec(int port) const {
+  std::string spec(int id) const {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    return bus_spec(GetParam(), std::string(info->name()) + "_" + std::to_string(port), port);
+    return bus_spec(GetParam(), std::string(info->name()) + "_" + std::to_string(id));
   }
 };
 

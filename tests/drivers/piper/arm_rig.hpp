@@ -17,6 +17,7 @@
 #include "porter/channels.hpp"
 #include "porter/piper/arm_driver.hpp"
 #include "porter/piper/piper_firmware.hpp"
+#include "private_lcm_url.hpp"
 
 namespace porter::piper::test {
 
@@ -28,11 +29,10 @@ inline ArmDriverParams rig_driver_params() {
   return p;
 }
 
-/// "memory" -> a private in-memory bus; "lcm" -> CAN_ARM over udpm at `port`.
-inline std::string bus_spec(const std::string& kind, const std::string& name, int port) {
+/// "memory" -> a private in-memory bus `name`; "lcm" -> CAN_ARM over udpm on a free port.
+inline std::string bus_spec(const std::string& kind, const std::string& name) {
   if (kind == "memory") return "memory:" + name;
-  return "lcm:" + std::string(channels::kCanArm.name()) + "@udpm://239.255.76.67:" + std::to_string(port) +
-         "?ttl=0";
+  return "lcm:" + std::string(channels::kCanArm.name()) + "@" + porter::test::private_lcm_url();
 }
 
 class ArmRig {

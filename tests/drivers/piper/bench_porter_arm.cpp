@@ -19,14 +19,15 @@
 #include "arm_process_support.hpp"
 #include "porter/piper/feedback.hpp"
 #include "porter/runtime/clock.hpp"
+#include "private_lcm_url.hpp"
 
 using namespace porter::piper;
 using namespace porter::piper::test;
 
 namespace {
 
-const std::string kCanUrl = "udpm://239.255.76.67:7772?ttl=0";
-const std::string kLcmUrl = "udpm://239.255.76.67:7773?ttl=0";
+const std::string kCanUrl = porter::test::private_lcm_url();
+const std::string kLcmUrl = porter::test::private_lcm_url();
 
 struct Stats {
   double mean = 0, p50 = 0, p99 = 0, max = 0;

@@ -7,13 +7,14 @@
 #include <cmath>
 
 #include "arm_process_support.hpp"
+#include "private_lcm_url.hpp"
 
 namespace porter::piper::test {
 namespace {
 
-// Ports no other test uses: the arm bus and the process's other channels.
-const std::string kCanUrl = "udpm://239.255.76.67:7770?ttl=0";
-const std::string kLcmUrl = "udpm://239.255.76.67:7771?ttl=0";
+// Free ports (udpm traffic is host-wide): the arm bus and the process's other channels.
+const std::string kCanUrl = porter::test::private_lcm_url();
+const std::string kLcmUrl = porter::test::private_lcm_url();
 
 TEST(PorterArmProcess, EnablesFollowsStopsOnEstopRecoversAndDisablesOnSigterm) {
   FirmwareHost host(kCanUrl);

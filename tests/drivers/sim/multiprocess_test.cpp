@@ -1,97 +1,37 @@
 // porter-base and porter-sim as separate processes over lcm:CAN_BASE on a private udpm port,
-// started from the shipped configs and stopped by PID: the base enters command mode, BASE_CMD
-// moves the simulated robot (SIM_TRUTH, LIO_POSE, BASE_STATE agree), SIM_COMMAND faults reach
-// the firmware (power cycle and re-enable, an obstacle added and removed is acknowledged in the
-// log), porter-base survives porter-sim restarting, both exit 0 on SIGTERM.
+// started from the shipped configs (porter-sim's LiDAR off) and stopped by PID: the base enters
+// command mode, BASE_CMD moves the simulated robot (SIM_TRUTH, LIO_POSE, BASE_STATE agree),
+// SIM_COMMAND faults reach the firmware (power cycle and re-enable, an obstacle added and removed
+// is acknowledged in the log), porter-base survives porter-sim restarting, both exit 0 on SIGTERM.
 #include <gtest/gtest.h>
 
 #include <atomic>
-#include <chrono>
 #include <cmath>
-#include <csignal>
-#include <fstream>
 #include <functional>
 #include <memory>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <thread>
-#include <vector>
-
-#include <fcntl.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
 #include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
 #include "private_lcm_url.hpp"
-
-extern char** environ;
+#include "process_support.hpp"
 
 namespace porter {
 namespace {
 
-const std::string kSource = PORTER_SOURCE_DIR;
+using sim::test::Child;
+using sim::test::kSource;
+
 // A free port: udpm traffic is host-wide, other runs of this test must not cross.
 const std::string kUrl = test::private_lcm_url();
-
-// A child process with stderr in a log file; stopped by PID with SIGTERM.
-class Child {
- public:
-  Child(const std::string& exe, std::vector<std::string> args, const std::string& log)
-      : log_(log) {
-    std::vector<char*> argv;
-    argv.push_back(const_cast<char*>(exe.c_str()));
-    for (auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
-    posix_spawn_file_actions_destroy(&actions);
-  }
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-  ~Child() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGKILL);
-      ::waitpid(pid_, nullptr, 0);
-    }
-  }
-  pid_t pid() const { return pid_; }
-  /// SIGTERM, then the exit status (-1 when it did not exit within the timeout).
-  int stop(double timeout_s = 10.0) {
-    if (pid_ <= 0) return -1;
-    ::kill(pid_, SIGTERM);
-    const double end = runtime::mono_s() + timeout_s;
-    int status = 0;
-    while (runtime::mono_s() < end) {
-      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return -1;
-  }
-  std::string log() const {
-    std::ifstream in(log_);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
-
- private:
-  pid_t pid_ = -1;
-  std::string log_;
-};
 
 std::unique_ptr<Child> start_sim(int run) {
   return std::make_unique<Child>(
       PORTER_SIM_EXE,
-      std::vector<std::string>{"--config", kSource + "/config/drivers/porter_sim.yaml",
+      std::vector<std::string>{"--config", sim::test::sim_config_file("sim.yaml", 0, 0),
                                "--lcm-url", kUrl},
       "multiprocess_porter_sim_" + std::to_string(run) + ".log");
 }
@@ -156,6 +96,11 @@ struct Observer {
     c.command = kind;
     c.target = target;
     c.duration_s = duration_s;
+    // LCM's C++ types leave numeric fields uninitialised: every field is set.
+    c.can_id = 0;
+    c.error_code = 0;
+    c.center_y_m = 0.0;
+    c.yaw_rad = 0.0;
     c.center_x_m = 3.0;
     c.center_z_m = 0.5;
     c.size_x_m = c.size_y_m = c.size_z_m = 0.5;

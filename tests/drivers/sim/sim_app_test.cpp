@@ -66,7 +66,13 @@ TEST(SimConfig, TheShippedFileLoads) {
   EXPECT_EQ(c.buses[0].name, "base");
   EXPECT_EQ(c.buses[0].can, "lcm:CAN_BASE");
   EXPECT_EQ(c.buses[0].devices, std::vector<std::string>{"scout_mini"});
-  EXPECT_TRUE(c.buses[1].devices.empty());
+  EXPECT_EQ(c.buses[1].devices, std::vector<std::string>{"piper"});
+  EXPECT_DOUBLE_EQ(c.piper.max_speed_radps, 3.0);
+  EXPECT_TRUE(c.lidar.enabled);
+  EXPECT_EQ(c.lidar.network.point_port, 56301);
+  EXPECT_DOUBLE_EQ(c.lidar.sensor.pattern.point_rate_hz, 200000.0);
+  // The mount resolves the URDF's lidar_mast link: 0.2875 m above it.
+  EXPECT_NEAR(c.lidar.sensor.T_B_S.translation().z(), 0.245 + 0.2875, 1e-9);
   EXPECT_DOUBLE_EQ(c.scout_mini.command_timeout_s, 0.5);
   EXPECT_EQ(error_of(shipped_text(), "ok.yaml"), "");
 }
@@ -90,6 +96,24 @@ TEST(SimConfig, BadKeysAreErrorsNamingTheKey) {
             std::string::npos);
   EXPECT_NE(error_of(replaced(ok, "time_constant_s: 0.05", "time_constant_s: -1"), "tau.yaml")
                 .find("'scout_mini.time_constant_s'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "devices: [piper]", "devices: [piper, scout_mini]"), "twice.yaml")
+                .find("hosted twice"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "max_speed_radps: 3.0", "max_speed_radps: 4.0"), "speed.yaml")
+                .find("'piper.max_speed_radps'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "point_port: 56301", "point_port: 70000"), "port.yaml")
+                .find("'lidar.point_port'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "dropout_probability: 0.0", "dropout_probability: 1.5"), "drop.yaml")
+                .find("'lidar.sensor.dropout_probability'"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "link: lidar_mast", "link: no_such_link"), "mount.yaml")
+                .find("no_such_link"),
+            std::string::npos);
+  EXPECT_NE(error_of(replaced(ok, "  imu_source_port: 56400\n", ""), "nokey.yaml")
+                .find("'lidar.imu_source_port'"),
             std::string::npos);
   const SimConfig fixed = load_sim_config(write(
       replaced(ok, "arm_joints_rad: scene", "arm_joints_rad: [0, 1.5, -1, 0, 0.5, 0]"), "q.yaml"));
@@ -157,6 +181,8 @@ TEST(SimProcessTest, BuildsTheWorldFromTheSceneRobotAndPayloadFiles) {
   std::string text = shipped_text();
   text = replaced(text, "can: lcm:CAN_BASE", "can: memory:sim_process_base");
   text = replaced(text, "can: lcm:CAN_ARM", "can: memory:sim_process_arm");
+  text = replaced(text, "  enabled: true", "  enabled: false");  // no UDP from a unit test
+  text = replaced(text, "devices: [piper]", "devices: []");
   const SimConfig config = load_sim_config(write(text, "memory.yaml"));
   LcmBus lcm("memq://");
   SimProcess process(config, lcm);
@@ -180,6 +206,7 @@ TEST(SimProcessTest, BuildsTheWorldFromTheSceneRobotAndPayloadFiles) {
   EXPECT_GT(std::hypot(now.x_m - start.x_m, now.y_m - start.y_m), 0.4);
   EXPECT_NEAR(now.yaw_rad, start.yaw_rad, 1e-9);
   EXPECT_EQ(world.latest().config.q_rad, world.scene().start.q_rad) << "fixed arm";
+  EXPECT_EQ(process.lidar(), nullptr);
 }
 
 }  // namespace

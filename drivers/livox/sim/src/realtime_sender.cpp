@@ -16,9 +16,13 @@ std::size_t RealtimeSender::step(SimulatedMid360& lidar, double now_s) {
   packets_.clear();
   lidar.advance(last_s_, now_s, packets_);
   last_s_ = now_s;
+  return send(packets_);
+}
+
+std::size_t RealtimeSender::send(const std::vector<SimPacket>& packets) {
   if (!sampling_) return 0;
   std::size_t sent = 0;
-  for (const SimPacket& p : packets_) {
+  for (const SimPacket& p : packets) {
     UdpSender& socket = p.stream == SimPacket::Stream::points ? points_ : imu_;
     const long n = socket.send(p.bytes.data(), p.size);
     if (n == static_cast<long>(p.size)) {

@@ -54,7 +54,7 @@ class FixedBaseSource final : public BaseSource {
   BaseTruth truth_;
 };
 
-/// An arm held at fixed angles (no arm device hosted yet).
+/// An arm held at fixed angles (no arm device hosted).
 class FixedJointSource final : public JointSource {
  public:
   explicit FixedJointSource(const JointVector& q_rad) { truth_.q_rad = q_rad; }

@@ -35,6 +35,9 @@ class RealtimeSender {
   /// (none while not sampling: the sensor is idle, its time still runs). Returns how many were
   /// sent.
   std::size_t step(SimulatedMid360& lidar, double now_s);
+  /// Sends packets produced elsewhere (porter-sim's LiDAR advances on the simulation's steps),
+  /// in order; nothing while not sampling. Returns how many were sent.
+  std::size_t send(const std::vector<SimPacket>& packets);
 
   /// New destination of the point or IMU stream (a sensor told so over its command channel).
   /// False, with last_error(), when the socket cannot be opened (the old one is kept).

@@ -119,6 +119,10 @@ class SimulatedMid360 {
   void set_obstacles(const std::vector<CollisionShape>& obstacles_W);
   /// Replaces the robot (e.g. a payload attached or released).
   void set_robot(const RobotModel& robot);
+  /// The sensor clock at simulated time 0, ns (params.sensor_time_at_zero_ns): a host that
+  /// learns its wall-clock origin only when it starts running sets it before the first
+  /// advance().
+  void set_sensor_time_at_zero_ns(std::int64_t ns) { params_.sensor_time_at_zero_ns = ns; }
 
   /// Appends, in time order, every packet whose send time lies in (t0_s, t1_s] and that no
   /// earlier call produced; packets of an interval no call covered are skipped (the sensor

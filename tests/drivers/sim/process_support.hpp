@@ -1,0 +1,119 @@
+#pragma once
+// Multi-process tests of porter-sim: a child process (stderr in a log file, stopped by PID with
+// SIGTERM, killed by PID if it outlives the test) and config files derived from the shipped ones
+// with absolute paths and the test's private LCM URL and UDP ports.
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "porter/runtime/clock.hpp"
+
+extern char** environ;
+
+namespace porter::sim::test {
+
+inline const std::string kSource = PORTER_SOURCE_DIR;
+
+class Child {
+ public:
+  Child(const std::string& exe, std::vector<std::string> args, const std::string& log)
+      : log_(log) {
+    std::vector<char*> argv;
+    argv.push_back(const_cast<char*>(exe.c_str()));
+    for (auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addopen(&actions, 2, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (posix_spawn(&pid_, exe.c_str(), &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
+    posix_spawn_file_actions_destroy(&actions);
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  ~Child() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  pid_t pid() const { return pid_; }
+  /// SIGTERM, then the exit status (-1 when it did not exit within the timeout).
+  int stop(double timeout_s = 10.0) {
+    if (pid_ <= 0) return -1;
+    ::kill(pid_, SIGTERM);
+    const double end = runtime::mono_s() + timeout_s;
+    int status = 0;
+    while (runtime::mono_s() < end) {
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    return -1;
+  }
+  std::string log() const {
+    std::ifstream in(log_);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+  }
+
+ private:
+  pid_t pid_ = -1;
+  std::string log_;
+};
+
+inline std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Writes `text` to a file of this test run (per PID) and returns its path.
+inline std::string write_temp(const std::string& name, const std::string& text) {
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("porter_sim_process_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// The shipped config/drivers/<file> with its relative paths made absolute.
+inline std::string shipped_config(const std::string& file) {
+  return std::regex_replace(read_text(kSource + "/config/drivers/" + file), std::regex(R"(\.\./)"),
+                            kSource + "/config/");
+}
+
+/// porter-sim's shipped config with the LiDAR sending to the given loopback ports (0 = LiDAR
+/// off): UDP, like udpm, is host-wide, so a test never uses the default 56301 / 56401.
+inline std::string sim_config_file(const std::string& name, int point_port, int imu_port) {
+  std::string text = shipped_config("porter_sim.yaml");
+  if (point_port == 0) {
+    text = std::regex_replace(text, std::regex("\n  enabled: true"), "\n  enabled: false");
+  } else {
+    text = std::regex_replace(text, std::regex("point_port: 56301"),
+                              "point_port: " + std::to_string(point_port));
+    text = std::regex_replace(text, std::regex("imu_port: 56401"),
+                              "imu_port: " + std::to_string(imu_port));
+  }
+  text = std::regex_replace(text, std::regex("point_source_port: 56300"), "point_source_port: 0");
+  text = std::regex_replace(text, std::regex("imu_source_port: 56400"), "imu_source_port: 0");
+  return write_temp(name, text);
+}
+
+}  // namespace porter::sim::test
