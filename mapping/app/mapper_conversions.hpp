@@ -1,0 +1,23 @@
+#pragma once
+// porter-mapper's one adapter between lcmtypes and the mapping library's types.
+//
+// Failure: a message that does not make sense (a cloud whose arrays disagree with num_points, a
+// negative time offset, non-finite state) returns false with `why` set; nothing throws.
+
+#include <string>
+
+#include "porter/mapping/mapper.hpp"
+#include "porter/octomap_t.hpp"
+#include "porter/point_cloud_t.hpp"
+#include "porter/robot_state_t.hpp"
+
+namespace porter::mapping::app {
+
+bool to_sensor_cloud(const porter::point_cloud_t& msg, SensorCloud& out, std::string& why);
+bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out, std::string& why);
+
+/// The MAP_OCTOMAP message of `map` (binary stream), stamped with the last integrated scan.
+void to_map_message(const RollingMap& map, const FilteredCloud& last, const std::string& frame_id,
+                    std::int64_t map_id, porter::octomap_t& out);
+
+}  // namespace porter::mapping::app

@@ -1,0 +1,88 @@
+#pragma once
+// porter-mapper's logic between the bus and the library, without the bus itself (so the
+// process, the replay test and the process test run the same code):
+//
+//   receiver thread:  on_state(ROBOT_STATE), on_cloud(LIDAR_POINTS)  — never block for long
+//   worker thread:    step(now) — processes the oldest queued cloud once ROBOT_STATE covers its
+//                     last point (or it waited state_wait_s), and says when a map is due.
+//
+// No cloud is dropped silently: a cloud that arrives while another is being processed or
+// waits is counted (arrived_while_busy); when the queue (max_queued_clouds) is full the oldest
+// waiting cloud is dropped and counted (dropped_queue_full); gaps in scan_id are counted
+// (lost_upstream); malformed messages are counted (rejected) with the last reason.
+//
+// Thread-safety: on_state/on_cloud/counters from any thread; step()/make_map() from one
+// worker thread.
+
+#include <condition_variable>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <string>
+
+#include "mapper_params.hpp"
+#include "porter/mapping/mapper.hpp"
+#include "porter/octomap_t.hpp"
+#include "porter/point_cloud_t.hpp"
+#include "porter/robot_state_t.hpp"
+
+namespace porter::mapping::app {
+
+struct MapperCounters {
+  std::uint64_t clouds_received = 0;
+  std::uint64_t clouds_processed = 0;
+  std::uint64_t arrived_while_busy = 0;
+  std::uint64_t dropped_queue_full = 0;
+  std::uint64_t lost_upstream = 0;
+  std::uint64_t rejected = 0;
+  std::uint64_t states_received = 0;
+  std::uint64_t state_wait_expired = 0;   ///< processed without a state covering the scan end
+  std::uint64_t points_state_outside = 0; ///< points posed with a held (not interpolated) state
+  std::uint64_t maps = 0;
+  std::string last_reject;
+};
+
+struct StepResult {
+  CloudReport report;
+  std::int64_t scan_id = 0;
+  std::int64_t received_ns = 0;   ///< monotonic time the cloud was received
+  bool map_due = false;           ///< publish_rate_hz says a map should go out now
+};
+
+class MapperNode {
+ public:
+  MapperNode(const MapperConfig& config, const RobotModel& robot);
+
+  void on_state(const porter::robot_state_t& msg);
+  void on_cloud(const porter::point_cloud_t& msg, std::int64_t now_ns);
+
+  /// Processes at most one cloud; false when none was ready. Waits up to wait_ns for one.
+  bool step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out);
+  /// Builds the map message of the current map (map_id increments).
+  void make_map(porter::octomap_t& out);
+
+  MapperCounters counters() const;
+  const Mapper& mapper() const { return mapper_; }
+
+ private:
+  struct Queued {
+    SensorCloud cloud;
+    std::int64_t scan_id = 0;
+    std::int64_t received_ns = 0;
+    std::int64_t end_us = 0;
+  };
+  MapperConfig config_;
+  Mapper mapper_;
+  mutable std::mutex mutex_;
+  std::condition_variable cv_;
+  std::deque<Queued> queue_;
+  StateBuffer states_;
+  bool processing_ = false;
+  bool have_scan_id_ = false;
+  std::int64_t last_scan_id_ = 0;
+  MapperCounters counters_;
+  std::int64_t last_map_ns_ = 0;
+  std::int64_t map_id_ = 0;
+};
+
+}  // namespace porter::mapping::app

@@ -1,0 +1,266 @@
+#include "porter/mapping/rolling_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace porter::mapping {
+
+namespace {
+// Per-cloud marks, one bit per voxel (a bitset keeps the marks of a 10 M-voxel window in
+// 1.25 MB, close to the cache, where the rays' scattered accesses land).
+inline bool test_bit(const std::vector<std::uint64_t>& b, std::int64_t k) {
+  return (b[static_cast<std::size_t>(k >> 6)] >> (k & 63)) & 1u;
+}
+inline void set_bit(std::vector<std::uint64_t>& b, std::int64_t k) {
+  b[static_cast<std::size_t>(k >> 6)] |= std::uint64_t{1} << (k & 63);
+}
+inline void clear_bit(std::vector<std::uint64_t>& b, std::int64_t k) {
+  b[static_cast<std::size_t>(k >> 6)] &= ~(std::uint64_t{1} << (k & 63));
+}
+const float kUnknown = std::numeric_limits<float>::quiet_NaN();
+
+// OctoMap's logodds(): computed in double, stored as float.
+float logodds(double p) { return static_cast<float>(std::log(p / (1.0 - p))); }
+}  // namespace
+
+RollingMap::RollingMap(const RollingMapParams& params)
+    : params_(params), inv_res_(1.0 / params.resolution_m) {
+  params_.dims = params_.dims.cwiseMax(2);
+  stride_y_ = params_.dims.x();
+  stride_z_ = static_cast<std::int64_t>(params_.dims.x()) * params_.dims.y();
+  const std::size_t n = static_cast<std::size_t>(stride_z_ * params_.dims.z());
+  log_odds_.assign(n, kUnknown);
+  touched_.assign((n + 63) / 64, 0);
+  ray_end_.assign((n + 63) / 64, 0);
+  window_min_ = Eigen::Vector3i(kKeyOffset - params_.dims.x() / 2, kKeyOffset - params_.dims.y() / 2,
+                                key_of(params_.z_min_m));
+  hit_log_ = logodds(params_.prob_hit);
+  miss_log_ = logodds(params_.prob_miss);
+  clamp_min_log_ = logodds(params_.clamp_min);
+  clamp_max_log_ = logodds(params_.clamp_max);
+  occupancy_log_ = logodds(params_.occupancy_threshold);
+}
+
+bool RollingMap::needs_recenter(double x_m, double y_m, double distance_m) const {
+  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return false;
+  const double cx = (window_min_.x() - kKeyOffset + 0.5 * params_.dims.x()) * params_.resolution_m;
+  const double cy = (window_min_.y() - kKeyOffset + 0.5 * params_.dims.y()) * params_.resolution_m;
+  return std::abs(x_m - cx) > distance_m || std::abs(y_m - cy) > distance_m;
+}
+
+void RollingMap::clear_plane(int axis, int s) {
+  const Eigen::Vector3i& n = params_.dims;
+  if (axis == 0) {
+    for (int z = 0; z < n.z(); ++z)
+      for (int y = 0; y < n.y(); ++y) log_odds_[static_cast<std::size_t>(s + stride_y_ * y + stride_z_ * z)] = kUnknown;
+  } else {
+    for (int z = 0; z < n.z(); ++z) {
+      float* row = &log_odds_[static_cast<std::size_t>(stride_y_ * s + stride_z_ * z)];
+      std::fill(row, row + n.x(), kUnknown);
+    }
+  }
+}
+
+bool RollingMap::center_on(double x_m, double y_m) {
+  const double limit = (kKeyOffset / 2) * params_.resolution_m;  // keeps every window key valid
+  if (!(std::abs(x_m) < limit && std::abs(y_m) < limit)) return false;
+  const Eigen::Vector3i& n = params_.dims;
+  const int new_min[2] = {key_of(x_m) - n.x() / 2, key_of(y_m) - n.y() / 2};
+  bool moved = false;
+  for (int axis = 0; axis < 2; ++axis) {
+    const int old_min = window_min_[axis];
+    const int shift = new_min[axis] - old_min;
+    if (shift == 0) continue;
+    moved = true;
+    if (std::abs(shift) >= n[axis]) {
+      for (int s = 0; s < n[axis]; ++s) clear_plane(axis, s);
+    } else if (shift > 0) {
+      for (int k = old_min; k < new_min[axis]; ++k) clear_plane(axis, k % n[axis]);
+    } else {
+      for (int k = new_min[axis] + n[axis]; k < old_min + n[axis]; ++k) clear_plane(axis, k % n[axis]);
+    }
+    window_min_[axis] = new_min[axis];
+  }
+  return moved;
+}
+
+void RollingMap::clear() { std::fill(log_odds_.begin(), log_odds_.end(), kUnknown); }
+
+VoxelState RollingMap::state(const Eigen::Vector3i& key) const {
+  const float v = log_odds(key);
+  if (v != v) return VoxelState::unknown;
+  return occupied(v) ? VoxelState::occupied : VoxelState::free;
+}
+
+float RollingMap::log_odds(const Eigen::Vector3i& key) const {
+  if (!in_window(key)) return kUnknown;
+  return log_odds_[static_cast<std::size_t>(slot(key))];
+}
+
+std::int64_t RollingMap::count(VoxelState s) const {
+  std::int64_t c = 0;
+  for (float v : log_odds_) {
+    const VoxelState vs = v != v ? VoxelState::unknown : (occupied(v) ? VoxelState::occupied : VoxelState::free);
+    c += vs == s;
+  }
+  return c;
+}
+
+// 3D-DDA (Amanatides & Woo) with OctoMap's computeRayKeys conventions: float origin and
+// direction, double tMax/tDelta, stop at the end key or once the travelled distance exceeds the
+// ray length; here also once the ray leaves the window (it never comes back: every axis moves
+// monotonically).
+void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_origin,
+                      const Eigen::Vector3f& end, IntegrateStats& stats) {
+  const Eigen::Vector3i key_end = key_of(end.cast<double>());
+  if (key_end == key_origin) return;
+  ++stats.rays;
+  const Eigen::Vector3i& n = params_.dims;
+  const std::int64_t stride[3] = {1, stride_y_, stride_z_};
+  int s[3];
+  for (int i = 0; i < 3; ++i) s[i] = key_origin[i] % n[i];
+  std::int64_t idx = s[0] + stride_y_ * s[1] + stride_z_ * s[2];
+  auto mark_free = [&](std::int64_t k) {
+    set_bit(touched_, k);  // a hit stays a hit: hits are listed and updated first
+  };
+  mark_free(idx);
+  ++stats.voxels_traversed;
+
+  Eigen::Vector3f direction = end - origin;
+  const float length = direction.norm();
+  direction /= length;
+  int step[3];
+  double t_max[3], t_delta[3];
+  int key[3] = {key_origin.x(), key_origin.y(), key_origin.z()};
+  int lo[3], hi[3];
+  for (int i = 0; i < 3; ++i) {
+    lo[i] = window_min_[i];
+    hi[i] = window_min_[i] + n[i];
+    step[i] = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
+    if (step[i] != 0) {
+      double border = key_to_coord(key[i]);
+      border += static_cast<float>(step[i] * params_.resolution_m * 0.5);
+      t_max[i] = (border - origin[i]) / direction[i];
+      t_delta[i] = params_.resolution_m / std::fabs(direction[i]);
+    } else {
+      t_max[i] = std::numeric_limits<double>::max();
+      t_delta[i] = std::numeric_limits<double>::max();
+    }
+  }
+  for (;;) {
+    const int dim = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
+    key[dim] += step[dim];
+    t_max[dim] += t_delta[dim];
+    if (key[0] == key_end.x() && key[1] == key_end.y() && key[2] == key_end.z()) return;
+    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
+    if (key[dim] < lo[dim] || key[dim] >= hi[dim]) return;
+    s[dim] += step[dim];
+    idx += step[dim] * stride[dim];
+    if (s[dim] == n[dim]) {
+      s[dim] = 0;
+      idx -= n[dim] * stride[dim];
+    } else if (s[dim] < 0) {
+      s[dim] = n[dim] - 1;
+      idx += n[dim] * stride[dim];
+    }
+    mark_free(idx);
+    ++stats.voxels_traversed;
+  }
+}
+
+IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std::vector<Eigen::Vector3f>& points_W,
+                                     const IntegrateOptions& options) {
+  IntegrateStats stats;
+  stats.points = points_W.size();
+  // Keys exist for |coord| < 32767 voxels; the window lies well inside that.
+  const float key_limit = static_cast<float>((kKeyOffset - 2) * params_.resolution_m);
+  const auto representable = [&](const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < key_limit; };
+  if (!representable(origin_W) || !in_window(key_of(origin_W.cast<double>()))) {
+    stats.origin_outside = true;
+    return stats;
+  }
+  const Eigen::Vector3i key_origin = key_of(origin_W.cast<double>());
+  occupied_list_.clear();
+  end_list_.clear();
+  ray_ends_.clear();
+  const float max_range = static_cast<float>(options.max_range_m);
+  const float ground = static_cast<float>(std::max(options.ground_height_m, -1e30));
+
+  // Pass 1: classify, mark hit voxels (hits win over misses), one ray per endpoint voxel.
+  for (const Eigen::Vector3f& p : points_W) {
+    if (!p.allFinite()) {
+      ++stats.invalid;
+      continue;
+    }
+    Eigen::Vector3f end = p;
+    bool hit = true;
+    if (max_range >= 0.0f && (p - origin_W).norm() > max_range) {
+      end = origin_W + (p - origin_W).normalized() * max_range;
+      hit = false;
+      ++stats.beyond_range;
+    } else if (p.z() < ground) {
+      hit = false;
+      ++stats.ground;
+    }
+    if (!representable(end)) {
+      ++stats.invalid;
+      continue;
+    }
+    const Eigen::Vector3i key = key_of(end.cast<double>());
+    if (!in_window(key)) {
+      if (hit) ++stats.outside_window;
+      ray_ends_.push_back(end);  // free part inside the window; not deduplicated
+      continue;
+    }
+    const std::int64_t k = slot(key);
+    if (hit) {
+      ++stats.hits;
+      if (test_bit(touched_, k)) continue;  // pass 1 touches hits only
+      occupied_list_.push_back(k);
+      set_bit(touched_, k);
+      ray_ends_.push_back(end);
+    } else {
+      if (test_bit(touched_, k) || test_bit(ray_end_, k)) continue;
+      end_list_.push_back(k);
+      set_bit(ray_end_, k);
+      ray_ends_.push_back(end);
+    }
+  }
+  // A ray end marked before the voxel turned out to be a hit keeps its ray: harmless (the ray
+  // excludes its end voxel, and that voxel is a hit).
+
+  // Pass 2: cast the rays.
+  for (const Eigen::Vector3f& end : ray_ends_) cast(origin_W, key_origin, end, stats);
+
+  // Pass 3: one update per voxel, then clear the marks. Hits first (they are listed); every
+  // other touched voxel is free, and is found by scanning the bitset, which visits the log-odds
+  // in memory order instead of the rays' scattered order.
+  for (std::int64_t k : occupied_list_) {
+    float& v = log_odds_[static_cast<std::size_t>(k)];
+    if (v != v) v = 0.0f;
+    v += hit_log_;
+    if (v > clamp_max_log_) v = clamp_max_log_;
+    clear_bit(touched_, k);
+  }
+  std::uint64_t free_updates = 0;
+  for (std::size_t w = 0; w < touched_.size(); ++w) {
+    std::uint64_t bits = touched_[w];
+    if (bits == 0) continue;
+    touched_[w] = 0;
+    while (bits) {
+      const int b = __builtin_ctzll(bits);
+      bits &= bits - 1;
+      float& v = log_odds_[(w << 6) + static_cast<std::size_t>(b)];
+      if (v != v) v = 0.0f;
+      v += miss_log_;
+      if (v < clamp_min_log_) v = clamp_min_log_;
+      ++free_updates;
+    }
+  }
+  for (std::int64_t k : end_list_) clear_bit(ray_end_, k);
+  stats.occupied_updates = occupied_list_.size();
+  stats.free_updates = free_updates;
+  return stats;
+}
+
+}  // namespace porter::mapping

@@ -1,0 +1,252 @@
+// porter-mapper's process logic without the process: strict config, the cloud queue and its
+// counters, waiting for ROBOT_STATE, and a replay of an LCM log file giving the same map.
+#include <unistd.h>
+
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <lcm/lcm-cpp.hpp>
+
+#include "mapper_conversions.hpp"
+#include "mapper_node.hpp"
+#include "mapping_support.hpp"
+#include "porter/core/load_error.hpp"
+#include "porter/lcm_bus.hpp"
+
+namespace porter::mapping {
+namespace {
+
+using livox::sim::Waypoint;
+
+std::string shipped_text() {
+  std::ifstream in(test::config_path("mapping/porter_mapper.yaml"));
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Writes `text` next to the shipped config (relative paths resolve the same) and loads it.
+app::MapperConfig load_text(const std::string& text) {
+  const std::string path = test::config_path("mapping/.test_porter_mapper_" + std::to_string(::getpid()) + ".yaml");
+  { std::ofstream(path) << text; }
+  struct Remove {
+    std::string p;
+    ~Remove() { std::remove(p.c_str()); }
+  } remove{path};
+  return app::load_mapper_config(path);
+}
+
+void expect_load_error(const std::string& text, const std::string& key) {
+  try {
+    load_text(text);
+    ADD_FAILURE() << "loaded; expected an error naming " << key;
+  } catch (const LoadError& e) {
+    EXPECT_NE(std::string(e.what()).find(key), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("porter_mapper"), std::string::npos) << e.what();
+  }
+}
+
+std::string replace(std::string s, const std::string& from, const std::string& to) {
+  const auto at = s.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) s.replace(at, from.size(), to);
+  return s;
+}
+
+TEST(MapperConfig, ShippedConfigLoadsAndIsStrict) {
+  const app::MapperConfig cfg = test::shipped_config();
+  EXPECT_DOUBLE_EQ(cfg.mapper.map.resolution_m, 0.05);
+  EXPECT_EQ(cfg.mapper.map.dims, Eigen::Vector3i(400, 400, 64));
+  EXPECT_NEAR(cfg.mapper.T_B_S.translation().z(), 0.5325, 1e-12);
+  EXPECT_FALSE(cfg.payload_yaml.empty());
+  const std::string text = shipped_text();
+  expect_load_error(text + "\nsurprise: 1\n", "surprise");
+  expect_load_error(replace(text, "  margin_m: 0.05\n", ""), "margin_m");
+  expect_load_error(replace(text, "  margin_m: 0.05", "  margin_m: -0.05"), "margin_m");
+  expect_load_error(replace(text, "  max_clouds: 1", "  max_clouds: 0"), "max_clouds");
+  expect_load_error(replace(text, "  size_voxels: [400, 400, 64]", "  size_voxels: [400.5, 400, 64]"), "size_voxels");
+  expect_load_error(replace(text, "  prob_hit: 0.7", "  prob_hit: 0.3"), "prob_hit");
+  expect_load_error(replace(text, "publish_rate_hz: 2.0", "publish_rate_hz: abc"), "publish_rate_hz");
+}
+
+porter::robot_state_t state_msg(std::int64_t utime, const RobotConfiguration& c) {
+  porter::robot_state_t m{};
+  m.utime = utime;
+  m.frame_id = "world";
+  m.x_m = c.base.x_m;
+  m.y_m = c.base.y_m;
+  m.yaw_rad = c.base.yaw_rad;
+  m.num_joints = kNumArmJoints;
+  m.q_rad.assign(c.q_rad.data(), c.q_rad.data() + kNumArmJoints);
+  m.qd_radps.assign(kNumArmJoints, 0.0);
+  m.pose_source = porter::robot_state_t::POSE_SIM_TRUTH;
+  m.pose_valid = m.arm_valid = m.base_valid = true;
+  return m;
+}
+
+porter::point_cloud_t cloud_msg(const SensorCloud& c, std::int64_t scan_id) {
+  porter::point_cloud_t m{};
+  m.utime = c.utime;
+  m.frame_id = "lidar";
+  m.scan_id = scan_id;
+  m.num_points = static_cast<std::int32_t>(c.size());
+  m.x_m = c.x_m;
+  m.y_m = c.y_m;
+  m.z_m = c.z_m;
+  m.intensity.assign(c.size(), 100.0f);
+  m.time_offset_ns = c.time_offset_ns;
+  m.line.assign(c.size(), 0);
+  m.tag.assign(c.size(), 0);
+  return m;
+}
+
+app::MapperConfig small_config() {
+  app::MapperConfig cfg = test::shipped_config();
+  cfg.mapper.map.dims = {200, 200, 48};
+  cfg.mapper.max_range_m = 4.5;
+  return cfg;
+}
+
+TEST(MapperNode, CountsCloudsArrivingWhileBusyAndWaitsForTheState) {
+  const app::MapperConfig cfg = small_config();
+  const RobotModel robot = test::robot_with("long_bar");
+  app::MapperNode node(cfg, robot);
+  SensorCloud c;
+  c.utime = 2'000'000;
+  for (int i = 0; i < 100; ++i) {
+    c.x_m.push_back(2.0f);
+    c.y_m.push_back(0.01f * i);
+    c.z_m.push_back(0.0f);
+    c.time_offset_ns.push_back(i * 1'000'000);  // last point at +99 ms
+  }
+  node.on_state(state_msg(1'950'000, test::config_at(0, 0, 0)));
+  node.on_cloud(cloud_msg(c, 1), 0);
+  app::StepResult r;
+  EXPECT_FALSE(node.step(1'000'000, 0, r));  // no state at the scan's end yet, 1 ms waited
+  node.on_cloud(cloud_msg(c, 2), 2'000'000);  // arrives while the first waits; the queue holds one
+  node.on_cloud(cloud_msg(c, 5), 3'000'000);  // 3 and 4 never arrived
+  app::MapperCounters k = node.counters();
+  EXPECT_EQ(k.clouds_received, 3u);
+  EXPECT_EQ(k.arrived_while_busy, 2u);
+  EXPECT_EQ(k.dropped_queue_full, 2u);
+  EXPECT_EQ(k.lost_upstream, 2u);
+  node.on_state(state_msg(2'100'000, test::config_at(0, 0, 0)));
+  ASSERT_TRUE(node.step(3'000'001, 0, r));
+  EXPECT_EQ(r.scan_id, 5);
+  EXPECT_TRUE(r.map_due);
+  EXPECT_EQ(r.report.filter.state_outside, 0u);
+  EXPECT_EQ(r.report.integrate.hits, 100u);
+  EXPECT_FALSE(node.step(3'000'002, 0, r));
+
+  // A cloud whose state never comes is processed once state.wait_s has passed (and counted).
+  c.utime = 5'000'000;
+  node.on_cloud(cloud_msg(c, 6), 10'000'000);
+  EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9) - 1, 0, r));
+  EXPECT_TRUE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9), 0, r));
+  EXPECT_GT(r.report.filter.state_outside, 0u);
+  EXPECT_EQ(node.counters().state_wait_expired, 1u);
+
+  // Malformed input is counted, not processed.
+  porter::point_cloud_t bad = cloud_msg(c, 7);
+  bad.frame_id = "base";
+  node.on_cloud(bad, 11'000'000'000);
+  bad = cloud_msg(c, 8);
+  bad.time_offset_ns[3] = -5;
+  node.on_cloud(bad, 11'000'000'001);
+  porter::robot_state_t bad_state = state_msg(6'000'000, test::config_at(0, 0, 0));
+  bad_state.num_joints = 3;
+  bad_state.q_rad.resize(3);
+  node.on_state(bad_state);
+  k = node.counters();
+  EXPECT_EQ(k.rejected, 3u);
+  EXPECT_NE(k.last_reject.find("num_joints"), std::string::npos) << k.last_reject;
+  EXPECT_FALSE(node.step(12'000'000'000, 0, r));
+}
+
+/// Runs every event of an LCM log through a fresh node on an in-process bus; the final map.
+porter::octomap_t replay(const std::string& log_path, const app::MapperConfig& cfg, const RobotModel& robot) {
+  porter::LcmBus bus("memq://");
+  app::MapperNode node(cfg, robot);
+  bus.subscribe(porter::channels::kRobotState, [&](const porter::robot_state_t& m) { node.on_state(m); }, 1000);
+  bus.subscribe(porter::channels::kLidarPoints, [&](const porter::point_cloud_t& m) { node.on_cloud(m, 0); }, 100);
+  lcm::LogFile log(log_path, "r");
+  EXPECT_TRUE(log.good());
+  app::StepResult r;
+  for (const lcm::LogEvent* ev = log.readNextEvent(); ev != nullptr; ev = log.readNextEvent()) {
+    bus.lcm().publish(ev->channel, ev->data, static_cast<unsigned>(ev->datalen));
+    bus.handle_pending();
+    while (node.step(0, 0, r)) {
+    }
+  }
+  porter::octomap_t map;
+  node.make_map(map);
+  return map;
+}
+
+TEST(MapperReplay, ARecordedLogReplayedThroughTheMapperGivesTheSameMap) {
+  const Scene scene = load_scene(test::config_path("scenes/forest.yaml"));
+  const app::MapperConfig cfg = small_config();
+  const RobotModel robot = test::robot_with("long_bar");
+  const double y = test::clear_lane(scene, 2.5, 0.4);
+  test::SimDrive drive(robot, scene.obstacles,
+                       {Waypoint{0.0, test::config_at(0.0, y, 0.0)}, Waypoint{1.2, test::config_at(1.0, y, 0.2)}},
+                       cfg.mapper.T_B_S);
+  const std::string log_path = ::testing::TempDir() + "porter_mapper_replay_" + std::to_string(::getpid()) + ".lcmlog";
+
+  // Live: messages go to the mapper over the bus as they are made, and into the log.
+  porter::octomap_t live;
+  {
+    lcm::LogFile log(log_path, "w");
+    ASSERT_TRUE(log.good());
+    porter::LcmBus bus("memq://");
+    app::MapperNode node(cfg, robot);
+    bus.subscribe(porter::channels::kRobotState, [&](const porter::robot_state_t& m) { node.on_state(m); }, 1000);
+    bus.subscribe(porter::channels::kLidarPoints, [&](const porter::point_cloud_t& m) { node.on_cloud(m, 0); }, 100);
+    std::int64_t event_time = test::SimDrive::kEpochUs;
+    auto send = [&](const std::string& channel, const auto& msg) {
+      std::vector<std::uint8_t> buf(static_cast<std::size_t>(msg.getEncodedSize()));
+      msg.encode(buf.data(), 0, static_cast<int>(buf.size()));
+      lcm::LogEvent ev{0, event_time++, channel, static_cast<std::int32_t>(buf.size()), buf.data()};
+      log.writeEvent(&ev);
+      bus.lcm().publish(channel, buf.data(), static_cast<unsigned>(buf.size()));
+      bus.handle_pending();
+    };
+    StateBuffer unused;
+    std::vector<std::pair<std::int64_t, RobotConfiguration>> states;
+    std::size_t sent = 0;
+    app::StepResult r;
+    for (int k = 0; k < 12; ++k) {
+      const test::SimCloud c = drive.next(unused, &states);
+      for (; sent < states.size(); ++sent) {
+        send(std::string(porter::channels::kRobotState.name()), state_msg(states[sent].first, states[sent].second));
+      }
+      send(std::string(porter::channels::kLidarPoints.name()), cloud_msg(c.cloud, k));
+      while (node.step(0, 0, r)) EXPECT_EQ(r.report.filter.state_outside, 0u);
+    }
+    const app::MapperCounters kc = node.counters();
+    EXPECT_EQ(kc.clouds_processed, 12u) << kc.clouds_received << " received, " << kc.dropped_queue_full << " dropped, " << kc.states_received << " states, rejected " << kc.rejected << " " << kc.last_reject << "; bus decode failures " << bus.decode_failures();
+    node.make_map(live);
+  }
+  const porter::octomap_t again = replay(log_path, cfg, robot);
+  std::remove(log_path.c_str());
+
+  ASSERT_GT(live.num_bytes, 1000);
+  EXPECT_EQ(again.num_bytes, live.num_bytes);
+  EXPECT_TRUE(again.data == live.data);
+  EXPECT_EQ(again.utime, live.utime);
+  EXPECT_DOUBLE_EQ(again.robot_x_m, live.robot_x_m);
+  EXPECT_NEAR(live.robot_x_m, 1.0, 1e-3);  // the pose at the last point, just before 1.2 s
+  EXPECT_NEAR(live.robot_y_m, y, 1e-9);
+  // The stream reads back with obstacles in it.
+  octomap::OcTree tree(live.resolution_m);
+  std::istringstream in(std::string(live.data.begin(), live.data.end()));
+  tree.readBinaryData(in);
+  std::int64_t occupied = 0;
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) occupied += tree.isNodeOccupied(*it);
+  EXPECT_GT(occupied, 500);
+}
+
+}  // namespace
+}  // namespace porter::mapping

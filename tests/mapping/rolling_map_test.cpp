@@ -1,0 +1,243 @@
+// The dense rolling window against stock OctoMap: the same voxels, the same log-odds, the same
+// binary stream; window sliding; the planner's reader on the published stream.
+#include <random>
+#include <set>
+#include <tuple>
+#include <sstream>
+
+#include <gtest/gtest.h>
+#include <octomap/OcTree.h>
+
+#include "porter/mapping/octomap_binary.hpp"
+#include "porter/mapping/rolling_map.hpp"
+#include "porter/planner/collision/octomap_grid.hpp"
+
+namespace porter::mapping {
+namespace {
+
+octomap::Pointcloud to_octomap(const std::vector<Eigen::Vector3f>& pts) {
+  octomap::Pointcloud pc;
+  for (const auto& p : pts) pc.push_back(p.x(), p.y(), p.z());
+  return pc;
+}
+
+/// Points that each fall in a voxel of their own (so per-endpoint deduplication changes nothing)
+/// around `origin`, within `radius`.
+std::vector<Eigen::Vector3f> sparse_points(std::mt19937& rng, const Eigen::Vector3f& origin, double res, int n,
+                                           double radius, double z_lo, double z_hi) {
+  std::uniform_real_distribution<float> u(-1.0f, 1.0f), uz(static_cast<float>(z_lo), static_cast<float>(z_hi));
+  std::vector<Eigen::Vector3f> pts;
+  std::set<std::tuple<int, int, int>> used;
+  while (static_cast<int>(pts.size()) < n) {
+    const Eigen::Vector3f p(origin.x() + static_cast<float>(radius) * u(rng), origin.y() + static_cast<float>(radius) * u(rng), uz(rng));
+    const auto key = std::make_tuple(static_cast<int>(std::floor(p.x() / res)), static_cast<int>(std::floor(p.y() / res)),
+                                     static_cast<int>(std::floor(p.z() / res)));
+    if (used.insert(key).second) pts.push_back(p);
+  }
+  return pts;
+}
+
+/// Every voxel of the window: the same state and log-odds as the tree (unknown = not in tree).
+void expect_equal_in_window(const RollingMap& map, const octomap::OcTree& tree, std::int64_t* known = nullptr) {
+  std::int64_t mismatches = 0, n_known = 0;
+  const Eigen::Vector3i lo = map.window_min_key(), n = map.dims();
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const Eigen::Vector3i key = lo + Eigen::Vector3i(x, y, z);
+        const octomap::OcTreeKey ok(static_cast<octomap::key_type>(key.x()), static_cast<octomap::key_type>(key.y()),
+                                    static_cast<octomap::key_type>(key.z()));
+        const octomap::OcTreeNode* node = tree.search(ok);
+        const float v = map.log_odds(key);
+        if (node == nullptr) {
+          mismatches += v == v;
+          continue;
+        }
+        ++n_known;
+        if (!(v == v) || std::abs(v - node->getLogOdds()) > 1e-5f) ++mismatches;
+      }
+  EXPECT_EQ(mismatches, 0);
+  if (known) *known = n_known;
+}
+
+TEST(RollingMap, KeysAreOctomapKeys) {
+  RollingMapParams p;
+  RollingMap map(p);
+  octomap::OcTree tree(p.resolution_m);
+  for (double c : {0.0, 0.049999, 0.05, -0.0001, -0.05, 3.1415, -12.34, 1e-9}) {
+    EXPECT_EQ(map.key_of(c), tree.coordToKey(c)) << c;
+  }
+}
+
+TEST(RollingMap, MatchesStockInsertPointCloudVoxelForVoxel) {
+  for (double res : {0.1, 0.05}) {
+    RollingMapParams p;
+    p.resolution_m = res;
+    p.dims = {128, 128, 48};
+    p.z_min_m = -0.5;
+    RollingMap map(p);
+    octomap::OcTree tree(res);
+    std::mt19937 rng(7);
+    Eigen::Vector3f origin(0.3f, -0.2f, 0.53f);
+    const double half = 0.5 * 128 * res - 0.01;
+    map.center_on(origin.x(), origin.y());
+    std::int64_t known = 0;
+    for (int cloud = 0; cloud < 6; ++cloud) {
+      origin += Eigen::Vector3f(0.07f, 0.03f, 0.0f);
+      const auto pts = sparse_points(rng, origin, res, 3000, half - 0.6, -0.4, 1.8);
+      const IntegrateStats st = map.integrate(origin, pts, {});
+      tree.insertPointCloud(to_octomap(pts), octomap::point3d(origin.x(), origin.y(), origin.z()));
+      EXPECT_EQ(st.hits, pts.size());
+      EXPECT_EQ(st.outside_window, 0u);
+      EXPECT_FALSE(st.origin_outside);
+    }
+    expect_equal_in_window(map, tree, &known);
+    EXPECT_GT(known, 20000) << res;
+  }
+}
+
+TEST(RollingMap, RangeLimitMatchesStockMaxrange) {
+  RollingMapParams p;
+  p.dims = {200, 200, 60};
+  p.z_min_m = -1.0;
+  RollingMap map(p);
+  map.center_on(0.0, 0.0);
+  octomap::OcTree tree(p.resolution_m);
+  std::mt19937 rng(3);
+  const Eigen::Vector3f origin(0.01f, 0.02f, 0.5f);
+  // Beyond the range limit rays end on the limit's sphere; keep one point per end voxel there
+  // too (the window deduplicates rays per end voxel, stock casts each).
+  std::vector<Eigen::Vector3f> pts;
+  std::set<std::tuple<int, int, int>> ends;
+  for (const Eigen::Vector3f& q : sparse_points(rng, origin, p.resolution_m, 4000, 4.9, -0.9, 1.9)) {
+    const Eigen::Vector3f d = q - origin;
+    const Eigen::Vector3f e = d.norm() > 3.0f ? Eigen::Vector3f(origin + d.normalized() * 3.0f) : q;
+    if (ends.insert({map.key_of(e.x()), map.key_of(e.y()), map.key_of(e.z())}).second) pts.push_back(q);
+  }
+  IntegrateOptions opt;
+  opt.max_range_m = 3.0;
+  const IntegrateStats st = map.integrate(origin, pts, opt);
+  tree.insertPointCloud(to_octomap(pts), octomap::point3d(origin.x(), origin.y(), origin.z()), 3.0);
+  EXPECT_GT(st.beyond_range, 1000u);
+  expect_equal_in_window(map, tree);
+}
+
+TEST(RollingMap, GroundPointsClearButDoNotMark) {
+  RollingMapParams p;
+  p.dims = {100, 100, 40};
+  RollingMap map(p);
+  map.center_on(0, 0);
+  const Eigen::Vector3f origin(0.0f, 0.0f, 1.0f);
+  IntegrateOptions opt;
+  opt.ground_height_m = 0.05;
+  const std::vector<Eigen::Vector3f> pts = {{1.0f, 0.0f, 0.02f}, {0.0f, 1.0f, 0.5f}};
+  const IntegrateStats st = map.integrate(origin, pts, opt);
+  EXPECT_EQ(st.ground, 1u);
+  EXPECT_EQ(st.hits, 1u);
+  EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.0, 0.0, 0.02))), VoxelState::unknown);
+  EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(0.5, 0.0, 0.51))), VoxelState::free);
+  EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(0.0, 1.0, 0.5))), VoxelState::occupied);
+}
+
+TEST(RollingMap, DuplicateEndpointsUpdateOnce) {
+  RollingMapParams p;
+  p.dims = {64, 64, 32};
+  RollingMap map(p);
+  map.center_on(0, 0);
+  const Eigen::Vector3f origin(0.0f, 0.0f, 0.5f);
+  std::vector<Eigen::Vector3f> pts(50, Eigen::Vector3f(1.01f, 0.51f, 0.51f));
+  pts.emplace_back(1.02f, 0.52f, 0.52f);
+  const IntegrateStats st = map.integrate(origin, pts, {});
+  EXPECT_EQ(st.hits, 51u);
+  EXPECT_EQ(st.rays, 1u);
+  EXPECT_EQ(st.occupied_updates, 1u);
+  EXPECT_FLOAT_EQ(map.log_odds(map.key_of(Eigen::Vector3d(1.01, 0.51, 0.51))), map.hit_log());
+}
+
+TEST(RollingMap, SlidingForgetsWhatLeavesAndKeepsTheRest) {
+  RollingMapParams p;
+  p.dims = {40, 30, 10};
+  RollingMap map(p);
+  map.center_on(0, 0);
+  const Eigen::Vector3f origin(0.0f, 0.0f, 0.2f);
+  // Voxel centres, so float and double give the same keys.
+  const Eigen::Vector3d a(-0.875, 0.025, 0.225), b(0.875, 0.575, 0.225);
+  map.integrate(origin, {a.cast<float>(), b.cast<float>()}, {});
+  ASSERT_EQ(map.state(map.key_of(a)), VoxelState::occupied);
+  ASSERT_EQ(map.state(map.key_of(b)), VoxelState::occupied);
+  const std::int64_t known = map.count(VoxelState::free) + map.count(VoxelState::occupied);
+  EXPECT_TRUE(map.center_on(0.5, 0.3));  // a (x = -0.875) leaves: the window starts at -0.5
+  EXPECT_EQ(map.state(map.key_of(a)), VoxelState::unknown);
+  EXPECT_EQ(map.state(map.key_of(b)), VoxelState::occupied);
+  EXPECT_LT(map.count(VoxelState::free) + map.count(VoxelState::occupied), known);
+  // Coming back does not bring a back: its slots were cleared when it left.
+  map.center_on(0.0, 0.0);
+  EXPECT_EQ(map.state(map.key_of(a)), VoxelState::unknown);
+  EXPECT_EQ(map.state(map.key_of(b)), VoxelState::occupied);
+  // A jump farther than the window clears everything.
+  map.center_on(100.0, 100.0);
+  EXPECT_EQ(map.count(VoxelState::unknown), static_cast<std::int64_t>(40 * 30 * 10));
+}
+
+TEST(RollingMap, OriginOutsideTheWindowIntegratesNothing) {
+  RollingMap map(RollingMapParams{});
+  const IntegrateStats st = map.integrate(Eigen::Vector3f(500.0f, 0.0f, 0.5f), {Eigen::Vector3f(501.0f, 0.0f, 0.5f)}, {});
+  EXPECT_TRUE(st.origin_outside);
+  EXPECT_EQ(map.count(VoxelState::unknown), map.dims().prod());
+}
+
+// The stream equals stock writeBinaryData of a tree holding the same voxels, and reads back.
+TEST(OctomapBinary, EqualsStockWriteBinaryDataOfTheSameVoxels) {
+  for (int trial = 0; trial < 4; ++trial) {
+    RollingMapParams p;
+    p.dims = {70, 50, 24};
+    RollingMap map(p);
+    map.center_on(trial * 1.37, -trial * 0.71);
+    std::mt19937 rng(100 + trial);
+    const Eigen::Vector3f origin(static_cast<float>(trial * 1.37), static_cast<float>(-trial * 0.71), 0.4f);
+    for (int c = 0; c < 3; ++c) map.integrate(origin, sparse_points(rng, origin, p.resolution_m, 800, 1.6, 0.0, 1.1), {});
+    octomap::OcTree tree(p.resolution_m);
+    std::int64_t n_known = 0;
+    map.for_each_known([&](const Eigen::Vector3i& k, float v) {
+      tree.setNodeValue(octomap::OcTreeKey(static_cast<octomap::key_type>(k.x()), static_cast<octomap::key_type>(k.y()),
+                                           static_cast<octomap::key_type>(k.z())),
+                        v);
+      ++n_known;
+    });
+    ASSERT_GT(n_known, 1000);
+    tree.toMaxLikelihood();
+    tree.prune();
+    std::ostringstream stock;
+    tree.writeBinaryData(stock);
+    std::vector<std::uint8_t> ours;
+    write_octomap_binary(map, ours);
+    const std::string s = stock.str();
+    ASSERT_EQ(ours.size(), s.size()) << trial;
+    EXPECT_TRUE(std::equal(ours.begin(), ours.end(), reinterpret_cast<const std::uint8_t*>(s.data()))) << trial;
+
+    // Read back as the planner does: the same occupied voxels.
+    octomap::OcTree back(p.resolution_m);
+    std::istringstream in(std::string(ours.begin(), ours.end()));
+    back.readBinaryData(in);
+    const Eigen::Vector3d lo = (map.window_min_key().cast<double>().array() - RollingMap::kKeyOffset) * p.resolution_m;
+    const Eigen::Vector3d hi = lo + map.dims().cast<double>() * p.resolution_m;
+    const OccupancyGrid grid = planner::occupancy_from_octomap(back, Eigen::AlignedBox3d(lo, hi));
+    std::int64_t disagree = 0;
+    map.for_each_known([&](const Eigen::Vector3i& k, float v) {
+      const Eigen::Vector3d c(map.key_to_coord(k.x()), map.key_to_coord(k.y()), map.key_to_coord(k.z()));
+      disagree += grid.occupied_at(c) != map.occupied(v);
+    });
+    EXPECT_EQ(disagree, 0);
+    EXPECT_EQ(grid.count(), map.count(VoxelState::occupied));
+  }
+}
+
+TEST(OctomapBinary, EmptyMapIsAnEmptyStream) {
+  RollingMap map(RollingMapParams{});
+  std::vector<std::uint8_t> out{1, 2, 3};
+  write_octomap_binary(map, out);
+  EXPECT_TRUE(out.empty());
+}
+
+}  // namespace
+}  // namespace porter::mapping
