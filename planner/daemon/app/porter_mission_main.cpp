@@ -1,7 +1,8 @@
 // porter-mission: sends a scene's goal on PLAN_GOAL to a running stack and follows it to arrival
 // or failure, then reports what happened: per-stage planning times of every plan, re-plans and
 // brakes, arrival, tracking error of the simulated robot (SIM_TRUTH) against the trajectory being
-// executed, and the clearance of every executed trajectory against the scene's exact geometry
+// executed, the clearance of the executed path itself (every SIM_TRUTH base pose and arm angles
+// from the goal on) and of every executed trajectory against the scene's exact geometry
 // (planner/validation, FCL). scripts/demo and the integration tests run it.
 //
 // usage: porter-mission --scene FILE [--lcm-url URL] [--timeout-s T] [--out JSON] [--goal-id N]
@@ -107,6 +108,11 @@ int main(int argc, char** argv) {
     have_state = have_state || (m.pose_valid && m.arm_valid);
   });
   bus.subscribe(porter::channels::kMapOctomap, [&](const porter::octomap_t&) { ++maps; }, 2);
+  // The planner listens for goals once its heartbeat runs; "idle" once it has taken in the maps.
+  bool planner_idle = false;
+  bus.subscribe(porter::channels::kHeartbeat, [&](const porter::process_heartbeat_t& m) {
+    if (m.process == "porter-planner" && m.status == "idle" && maps > 0) planner_idle = true;
+  });
   bus.subscribe(porter::channels::kSimTruth, [&](const porter::robot_state_t& m) { truth.push_back(m); }, 200);
   bus.subscribe(porter::channels::kPlannerStatus, [&](const porter::planner_status_t& m) {
     statuses.push_back(m);
@@ -130,9 +136,12 @@ int main(int argc, char** argv) {
   });
 
   const double t_wait = rt::mono_s();
-  while (!rt::stop_requested() && (!have_state || maps == 0) && rt::mono_s() - t_wait < 60.0) bus.handle_timeout(50);
-  if (!have_state || maps == 0) {
-    rt::log_error(std::string("no ") + (have_state ? "MAP_OCTOMAP" : "valid ROBOT_STATE") + " within 60 s");
+  while (!rt::stop_requested() && (!have_state || maps == 0 || !planner_idle) && rt::mono_s() - t_wait < 60.0)
+    bus.handle_timeout(50);
+  if (!have_state || maps == 0 || !planner_idle) {
+    rt::log_error(std::string("no ") +
+                  (!have_state ? "valid ROBOT_STATE" : maps == 0 ? "MAP_OCTOMAP" : "idle porter-planner HEARTBEAT") +
+                  " within 60 s");
     return 1;
   }
   rt::log_info("stack ready after " + rt::format_ms(rt::mono_s() - t_wait) + "; sending goal " + std::to_string(goal_id));
@@ -149,11 +158,29 @@ int main(int argc, char** argv) {
   goal.payload_id = payload.name;
   bus.publish(porter::channels::kPlanGoal, goal);
   const std::int64_t goal_utime = goal.utime;
+  // A planner still taking in its first map (or state) refuses the goal: send it again each second.
+  double last_send = rt::mono_s();
+  std::size_t refusals_seen = 0;
+  int resent = 0;
 
   std::string outcome = "timeout";
   const double t0 = rt::mono_s();
   while (!rt::stop_requested() && rt::mono_s() - t0 < timeout_s) {
     bus.handle_timeout(50);
+    if (trajectories.empty() && rt::mono_s() - last_send > 1.0) {
+      std::size_t refusals = 0;
+      for (const auto& s : statuses)
+        if (s.goal_id == goal_id && (s.state == porter::planner_status_t::STATE_NO_MAP ||
+                                     s.state == porter::planner_status_t::STATE_NO_STATE))
+          ++refusals;
+      if (refusals > refusals_seen) {
+        refusals_seen = refusals;
+        goal.utime = rt::wall_utime();
+        bus.publish(porter::channels::kPlanGoal, goal);
+        last_send = rt::mono_s();
+        ++resent;
+      }
+    }
     bool done = false;
     for (const auto& s : statuses) {
       if (s.goal_id != goal_id) continue;
@@ -168,6 +195,7 @@ int main(int argc, char** argv) {
   const double t_settle = rt::mono_s();
   while (rt::mono_s() - t_settle < 1.0) bus.handle_timeout(50);
   const double arrival_s = static_cast<double>(rt::wall_utime() - goal_utime) * 1e-6;
+  if (resent > 0) rt::log_info("goal sent " + std::to_string(resent + 1) + " times (refused while the planner had no map or state)");
 
   // Tracking error: true base position against the trajectory executing at that time.
   double sum2 = 0.0, max_err = 0.0;
@@ -215,6 +243,28 @@ int main(int argc, char** argv) {
                      {"duration_s", tr.total_duration_s()}, {"min_clearance_m", c}, {"closest", who},
                      {"collision", report.collision.found}, {"xy", samples}});
   }
+  // Exact-geometry clearance of what the simulated robot really did: every SIM_TRUTH sample from
+  // the goal on, at most every 10 ms (base pose and arm angles, the scene's payload in the gripper).
+  std::vector<double> truth_t;
+  std::vector<porter::validation::WholeBodyConfig> truth_c;
+  for (const auto& s : truth) {
+    if (s.utime < goal_utime || s.num_joints != porter::kNumArmJoints) continue;
+    if (!truth_t.empty() && static_cast<double>(s.utime - goal_utime) * 1e-6 - truth_t.back() < 0.01) continue;
+    porter::validation::WholeBodyConfig c;
+    c.x_m = s.x_m;
+    c.y_m = s.y_m;
+    c.yaw_rad = s.yaw_rad;
+    for (int j = 0; j < porter::kNumArmJoints; ++j) c.q_rad[j] = s.q_rad[static_cast<std::size_t>(j)];
+    truth_t.push_back(static_cast<double>(s.utime - goal_utime) * 1e-6);
+    truth_c.push_back(c);
+  }
+  const auto executed = porter::validation::check_configurations(robot, payload, scene, truth_t, truth_c);
+  double executed_clearance = 1e9;
+  std::string executed_closest;
+  for (const auto& o : executed.clearances)
+    if (o.min_m < executed_clearance) executed_clearance = o.min_m, executed_closest = o.obstacle + " by " + o.body;
+  collided = collided || executed.collision.found;
+
   json stat = json::array();
   int replans = 0, brakes = 0;
   for (const auto& s : statuses) {
@@ -230,17 +280,22 @@ int main(int argc, char** argv) {
   json path = json::array();
   for (std::size_t i = 0; i < truth.size(); i += 10) path.push_back({truth[i].x_m, truth[i].y_m, truth[i].yaw_rad});
   const bool ok = arrived && !collided;
-  char line[400];
+  char line[600];
   std::snprintf(line, sizeof line,
                 "%s: %s in %.1f s; %zu trajectories (%d re-plans, %d brakes); tracking error RMS %.3f m, max %.3f m "
-                "over %d samples; final distance to goal %.3f m; min clearance %.3f m (%s)%s",
+                "over %d samples; final distance to goal %.3f m; executed path (%d SIM_TRUTH samples) min clearance "
+                "%.3f m (%s)%s; planned trajectories min clearance %.3f m (%s)%s",
                 ok ? "ARRIVED" : "NOT ARRIVED", outcome.c_str(), arrival_s, trajectories.size(), replans, brakes, rms,
-                max_err, n_err, final_error, min_clearance, closest.c_str(), collided ? "; COLLISION" : "");
+                max_err, n_err, final_error, executed.samples, executed_clearance, executed_closest.c_str(),
+                executed.collision.found ? (" COLLISION " + executed.failures.front()).c_str() : "",
+                min_clearance, closest.c_str(), collided ? "; COLLISION" : "");
   std::printf("%s\n", line);
   if (!out_path.empty()) {
     json j = {{"scene", scene_path}, {"outcome", outcome}, {"arrived", arrived}, {"collided", collided},
               {"goal_to_end_s", arrival_s}, {"tracking_rms_m", rms}, {"tracking_max_m", max_err},
               {"final_distance_m", final_error}, {"min_clearance_m", min_clearance}, {"closest_obstacle", closest},
+              {"executed_min_clearance_m", executed_clearance}, {"executed_closest", executed_closest},
+              {"executed_collision", executed.collision.found}, {"executed_samples", executed.samples},
               {"replans", replans}, {"brakes", brakes}, {"statuses", stat}, {"plans", plans}, {"truth_xy_yaw", path},
               {"start", {scene.start.base.x_m, scene.start.base.y_m}}, {"goal", {scene.goal.base.x_m, scene.goal.base.y_m}},
               {"summary", line}};
