@@ -11,6 +11,7 @@
 #include <assimp/scene.h>
 
 #include "porter/core/load_error.hpp"
+#include "ply_header.hpp"
 
 namespace porter {
 
@@ -52,20 +53,84 @@ void weld_and_check(const std::vector<Eigen::Vector3d>& raw, TriangleMesh& mesh)
   mesh.closed = closed;
 }
 
+
+// Every mesh of an imported (not yet post-processed) scene: counts within the limits, vertex
+// arrays present, every face index below its mesh's vertex count. assimp's post-processing
+// steps index vertices with the face indices unchecked (an out-of-range index segfaulted).
+std::string check_imported(const aiScene& scene) {
+  if (scene.mNumMeshes > 0 && scene.mMeshes == nullptr) return "mesh list missing";
+  std::size_t vertices = 0, faces = 0;
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    const aiMesh* mesh = scene.mMeshes[m];
+    if (mesh == nullptr) return "mesh " + std::to_string(m) + " missing";
+    vertices += mesh->mNumVertices;
+    faces += mesh->mNumFaces;
+    if (vertices > kMeshMaxVertices)
+      return "more than " + std::to_string(kMeshMaxVertices) + " vertices";
+    if (faces > kMeshMaxFaces) return "more than " + std::to_string(kMeshMaxFaces) + " faces";
+    if (mesh->mNumVertices > 0 && mesh->mVertices == nullptr) return "mesh " + std::to_string(m) + " has no vertex array";
+    if (mesh->mNumFaces > 0 && mesh->mFaces == nullptr) return "mesh " + std::to_string(m) + " has no face array";
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices == 0 || face.mIndices == nullptr)
+        return "face " + std::to_string(f) + " of mesh " + std::to_string(m) + " has no indices";
+      for (unsigned k = 0; k < face.mNumIndices; ++k)
+        if (face.mIndices[k] >= mesh->mNumVertices)
+          return "face " + std::to_string(f) + " of mesh " + std::to_string(m) + " uses vertex " +
+                 std::to_string(face.mIndices[k]) + " of " + std::to_string(mesh->mNumVertices);
+    }
+  }
+  return {};
+}
+
+// The primitive types each mesh declares, recomputed from its faces. Importers can declare a
+// type no face has (a PLY "polygon" mesh of triangles), and assimp's post-processing asserts on
+// the declaration (TriangulateProcess: numOut != mNumFaces, an abort).
+void fix_primitive_types(aiScene& scene) {
+  for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
+    aiMesh& mesh = *scene.mMeshes[m];
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh.mNumFaces; ++f) {
+      const unsigned n = mesh.mFaces[f].mNumIndices;
+      types |= n == 1 ? aiPrimitiveType_POINT : n == 2 ? aiPrimitiveType_LINE : n == 3 ? aiPrimitiveType_TRIANGLE
+                                                                                 : aiPrimitiveType_POLYGON;
+    }
+    mesh.mPrimitiveTypes = types;
+  }
+}
+
 }  // namespace
 
 MeshPtr load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
-  if (!std::filesystem::exists(path)) throw LoadError(path, "", "mesh file not found");
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw LoadError(path, "", "mesh file not found");
+  if (!std::filesystem::is_regular_file(path, ec)) throw LoadError(path, "", "mesh path is not a regular file");
+  const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+  if (ec) throw LoadError(path, "", "cannot read the mesh file's size: " + ec.message());
+  if (bytes > kMeshMaxFileBytes)
+    throw LoadError(path, "", "mesh file of " + std::to_string(bytes) + " bytes exceeds the " +
+                                  std::to_string(kMeshMaxFileBytes) + "-byte limit");
   if (!(scale.array() > 0.0).all() || !scale.allFinite())
     throw LoadError(path, "scale", "mesh scale must be positive in every axis");
+  if (const std::string bad = detail::check_ply_header(path); !bad.empty()) throw LoadError(path, "", bad);
 
   Assimp::Importer importer;
   // Point clouds and lines carry no volume; drop them so only triangles remain.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+  // Import without post-processing, check indices and counts, then post-process.
+  const aiScene* scene = importer.ReadFile(path, 0);
   if (scene == nullptr)
     throw LoadError(path, "", std::string("unreadable mesh: ") + importer.GetErrorString());
+  if (const std::string bad = check_imported(*scene); !bad.empty())
+    throw LoadError(path, "", "malformed mesh: " + bad);
+  // The importer owns the scene and post-processing rewrites it in place anyway.
+  fix_primitive_types(const_cast<aiScene&>(*scene));
+  scene = importer.ApplyPostProcessing(aiProcess_Triangulate | aiProcess_PreTransformVertices |
+                                       aiProcess_SortByPType);
+  if (scene == nullptr)
+    throw LoadError(path, "", std::string("unreadable mesh: ") + importer.GetErrorString());
+  if (const std::string bad = check_imported(*scene); !bad.empty())
+    throw LoadError(path, "", "malformed mesh after triangulation: " + bad);
 
   std::vector<Eigen::Vector3d> raw;
   for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
@@ -80,8 +145,12 @@ MeshPtr load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
     }
   }
   if (raw.empty()) throw LoadError(path, "", "mesh has no triangles");
-  for (const auto& v : raw)
+  for (const auto& v : raw) {
     if (!v.allFinite()) throw LoadError(path, "", "mesh has non-finite vertex coordinates");
+    if (v.cwiseAbs().maxCoeff() > kMeshMaxCoordinate_m)
+      throw LoadError(path, "", "mesh has a vertex beyond " + std::to_string(static_cast<int>(kMeshMaxCoordinate_m)) +
+                                    " m after scaling");
+  }
 
   auto mesh = std::make_shared<TriangleMesh>();
   mesh->source = path;

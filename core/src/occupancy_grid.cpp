@@ -26,8 +26,10 @@ Eigen::AlignedBox3d OccupancyGrid::bounds_W() const {
 
 Eigen::Vector3i OccupancyGrid::world_to_index(const Eigen::Vector3d& p_W) const {
   const Eigen::Vector3d f = ((p_W - origin_W_) / resolution_m_).array().floor();
-  // Clamp before the cast so far-away points cannot overflow int.
-  return f.cwiseMax(-1.0).cwiseMin(dims_.cast<double>()).cast<int>();
+  // Clamp before the cast so far-away points cannot overflow int; NaN maps to -1 (outside).
+  Eigen::Vector3i out;
+  for (int i = 0; i < 3; ++i) out[i] = f[i] >= -1.0 ? static_cast<int>(std::min(f[i], double(dims_[i]))) : -1;
+  return out;
 }
 
 bool OccupancyGrid::world_to_index_checked(const Eigen::Vector3d& p_W, Eigen::Vector3i* idx) const {

@@ -2,6 +2,7 @@
 
 #include "porter/core/load_error.hpp"
 #include "porter/core/mesh_loader.hpp"
+#include "porter/core/robot_loader.hpp"
 #include "porter/core/yaml_reader.hpp"
 
 namespace porter {
@@ -71,6 +72,18 @@ Payload load_payload(const std::string& path) {
     for (std::size_t i = 0; i < shapes.size(); ++i) payload.shapes.push_back(read_primitive(shapes.at(i)));
   }
   payload.T_EE_P = cfg.get("grasp").as_pose();
+  // The payload moves with the end effector: its extent sizes the planner's kernels and grids
+  // like a link's (a 20 m sphere took 6.6 GB), so it obeys the same reach limit.
+  const double grasp_offset = payload.T_EE_P.translation().norm();
+  for (std::size_t i = 0; i < payload.shapes.size(); ++i) {
+    const double reach = grasp_offset + shape_max_distance(payload.shapes[i], Eigen::Vector3d::Zero());
+    if (!(reach <= kRobotMaxReach_m)) {
+      const std::string key = cfg.has("mesh") ? "key 'mesh'" : "key 'shapes[" + std::to_string(i) + "]'";
+      throw LoadError(path, key,
+                      "reaches " + std::to_string(reach) + " m from the end effector (grasp offset included; limit " +
+                          std::to_string(kRobotMaxReach_m) + " m)");
+    }
+  }
   return payload;
 }
 

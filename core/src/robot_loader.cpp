@@ -5,6 +5,8 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <mutex>
+#include <sstream>
 #include <set>
 
 #include <console_bridge/console.h>
@@ -28,6 +30,69 @@ Eigen::Isometry3d to_eigen(const urdf::Pose& p) {
 }
 
 Eigen::Vector3d to_eigen(const urdf::Vector3& v) { return {v.x, v.y, v.z}; }
+
+std::string fmt(double v) {
+  std::ostringstream os;
+  os << v;
+  return os.str();
+}
+
+// An origin must be finite, within kRobotMaxReach_m, with a quaternion that can be normalised.
+void check_pose(const urdf::Pose& p, const std::string& urdf_path, const std::string& element) {
+  const Eigen::Vector3d xyz = to_eigen(p.position);
+  const Eigen::Vector4d q(p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  if (!xyz.allFinite() || !q.allFinite())
+    throw LoadError(urdf_path, element, "origin is not finite");
+  if (xyz.norm() > kRobotMaxReach_m)
+    throw LoadError(urdf_path, element,
+                    "origin is " + fmt(xyz.norm()) + " m from its parent (limit " + fmt(kRobotMaxReach_m) + " m)");
+  if (!(q.norm() > 1e-6)) throw LoadError(urdf_path, element, "origin rotation is degenerate");
+}
+
+// A size of robot geometry: finite, > 0 and at most kRobotMaxReach_m.
+void check_size(double v, const std::string& urdf_path, const std::string& element, const char* what) {
+  if (!std::isfinite(v) || !(v > 0.0) || v > kRobotMaxReach_m)
+    throw LoadError(urdf_path, element,
+                    std::string(what) + " must be finite, > 0 and at most " + fmt(kRobotMaxReach_m) + " m (got " +
+                        fmt(v) + ")");
+}
+
+// urdfdom reports why it refused a file through console_bridge; this collects it while one
+// parse runs. console_bridge's handler is process-wide, so parses are serialised.
+class CapturedLog : public console_bridge::OutputHandler {
+ public:
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) {
+      if (errors_.size() < 4096) errors_ += (errors_.empty() ? "" : "; ") + text;
+    }
+  }
+  const std::string& errors() const { return errors_; }
+
+ private:
+  std::string errors_;
+};
+
+urdf::ModelInterfaceSharedPtr parse_urdf(const std::string& urdf_path, std::string* reason) {
+  static std::mutex mutex;
+  std::lock_guard<std::mutex> lock(mutex);
+  CapturedLog captured;
+  const console_bridge::LogLevel level = console_bridge::getLogLevel();
+  console_bridge::useOutputHandler(&captured);
+  console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_ERROR);
+  urdf::ModelInterfaceSharedPtr model;
+  try {
+    model = urdf::parseURDFFile(urdf_path);
+  } catch (const std::exception& e) {
+    captured.log(e.what(), console_bridge::CONSOLE_BRIDGE_LOG_ERROR, "", 0);
+  }
+  console_bridge::restorePreviousOutputHandler();
+  console_bridge::setLogLevel(level);
+  // urdfdom logs an error and drops the element when, e.g., a collision's size does not parse
+  // ("nan"), yet returns a model: a logged error refuses the file.
+  *reason = captured.errors();
+  if (!reason->empty()) model.reset();
+  return model;
+}
 
 const char* joint_type_name(int type) {
   switch (type) {
@@ -67,26 +132,37 @@ CollisionShape convert_collision(const urdf::Collision& col, const std::string& 
                                  const Eigen::Isometry3d& T_planning_link) {
   CollisionShape shape;
   shape.name = link_name + "/collision[" + std::to_string(index) + "]";
+  const std::string element = "link '" + link_name + "' collision[" + std::to_string(index) + "]";
+  check_pose(col.origin, urdf_path, element);
   shape.T_parent_shape = T_planning_link * to_eigen(col.origin);
   const urdf::Geometry* g = col.geometry.get();
   if (g == nullptr) throw LoadError(urdf_path, "link '" + link_name + "'", "collision without geometry");
   switch (g->type) {
     case urdf::Geometry::BOX: {
       const auto& b = static_cast<const urdf::Box&>(*g);
+      check_size(b.dim.x, urdf_path, element, "box size x");
+      check_size(b.dim.y, urdf_path, element, "box size y");
+      check_size(b.dim.z, urdf_path, element, "box size z");
       shape.geometry = Box{to_eigen(b.dim)};
       break;
     }
     case urdf::Geometry::CYLINDER: {
       const auto& c = static_cast<const urdf::Cylinder&>(*g);
+      check_size(c.radius, urdf_path, element, "cylinder radius");
+      check_size(c.length, urdf_path, element, "cylinder length");
       shape.geometry = Cylinder{c.radius, c.length};
       break;
     }
     case urdf::Geometry::SPHERE: {
+      check_size(static_cast<const urdf::Sphere&>(*g).radius, urdf_path, element, "sphere radius");
       shape.geometry = Sphere{static_cast<const urdf::Sphere&>(*g).radius};
       break;
     }
     case urdf::Geometry::MESH: {
       const auto& m = static_cast<const urdf::Mesh&>(*g);
+      const Eigen::Vector3d scale = to_eigen(m.scale);
+      if (!scale.allFinite() || !(scale.array() > 0.0).all())
+        throw LoadError(urdf_path, element, "mesh scale must be finite and > 0 on every axis");
       const std::string path = resolve_mesh_uri(urdf_path, m.filename);
       try {
         shape.geometry = MeshShape{load_mesh(path, to_eigen(m.scale))};
@@ -98,11 +174,21 @@ CollisionShape convert_collision(const urdf::Collision& col, const std::string& 
     default:
       throw LoadError(urdf_path, "link '" + link_name + "'", "unsupported collision geometry type");
   }
+  // Every point within kRobotMaxReach_m of the link frame: the planner's kernels and distance
+  // grids are sized from this extent (a 1e9 m box overflowed an int there).
+  const double reach = shape_max_distance(shape, Eigen::Vector3d::Zero());
+  if (!(reach <= kRobotMaxReach_m))
+    throw LoadError(urdf_path, element,
+                    "reaches " + fmt(reach) + " m from its planning link's frame (limit " + fmt(kRobotMaxReach_m) +
+                        " m)");
   return shape;
 }
 
-void check_positive(const yaml::Reader& r, const char* key, double& out) {
-  out = r.get(key).as_positive();
+// A positive parameter within [lo, hi] (the ranges are in robot_loader.hpp).
+void read_in_range(const yaml::Reader& r, const char* key, double lo, double hi, double& out) {
+  const yaml::Reader v = r.get(key);
+  out = v.as_double();
+  if (!(out >= lo && out <= hi)) v.fail("must be within [" + fmt(lo) + ", " + fmt(hi) + "], got " + fmt(out));
 }
 
 }  // namespace
@@ -130,29 +216,38 @@ RobotModel load_robot_model(const std::string& robot_yaml_path) {
   {
     const auto fj = cfg.get("frozen_joints");
     if (!fj.node().IsNull())
-      for (const auto& key : fj.keys()) frozen[key] = fj.get(key).as_double();
+      for (const auto& key : fj.keys()) {
+        frozen[key] = fj.get(key).as_double();
+        if (std::abs(frozen[key]) > 1e3) fj.get(key).fail("must be within +-1000 (rad or m), got " + fmt(frozen[key]));
+      }
   }
   const auto accel = cfg.get("joint_acceleration_max_radps2").as_doubles(kNumArmJoints);
   for (std::size_t i = 0; i < accel.size(); ++i)
-    if (!(accel[i] > 0)) cfg.get("joint_acceleration_max_radps2").at(i).fail("must be positive");
+    if (!(accel[i] > 0 && accel[i] <= 1e4))
+      cfg.get("joint_acceleration_max_radps2").at(i).fail("must be within (0, 10000], got " + fmt(accel[i]));
 
   const auto base = cfg.get("base");
   base.expect_keys({"wheel_radius_m", "track_width_m", "wheel_omega_max_radps", "wheel_alpha_max_radps2",
                     "min_turning_radius_m", "nonsingular_speed_mps"});
-  check_positive(base, "wheel_radius_m", model.base.wheel_radius_m);
-  check_positive(base, "track_width_m", model.base.track_width_m);
-  check_positive(base, "wheel_omega_max_radps", model.base.wheel_omega_max_radps);
-  check_positive(base, "wheel_alpha_max_radps2", model.base.wheel_alpha_max_radps2);
-  check_positive(base, "min_turning_radius_m", model.base.min_turning_radius_m);
-  check_positive(base, "nonsingular_speed_mps", model.base.nonsingular_speed_mps);
+  read_in_range(base, "wheel_radius_m", 1e-3, 2.0, model.base.wheel_radius_m);
+  read_in_range(base, "track_width_m", 1e-2, 10.0, model.base.track_width_m);
+  read_in_range(base, "wheel_omega_max_radps", 1e-3, 1e3, model.base.wheel_omega_max_radps);
+  read_in_range(base, "wheel_alpha_max_radps2", 1e-3, 1e4, model.base.wheel_alpha_max_radps2);
+  read_in_range(base, "min_turning_radius_m", 1e-3, 100.0, model.base.min_turning_radius_m);
+  read_in_range(base, "nonsingular_speed_mps", 1e-4, 10.0, model.base.nonsingular_speed_mps);
 
   // --- URDF ---------------------------------------------------------------------------------
   if (!std::filesystem::exists(urdf_path))
     throw LoadError(robot_yaml_path, "key 'urdf'", "URDF file not found: " + urdf_path);
-  // urdfdom reports parse errors through console_bridge; the message is replaced by ours.
-  console_bridge::setLogLevel(console_bridge::CONSOLE_BRIDGE_LOG_NONE);
-  const urdf::ModelInterfaceSharedPtr urdf_model = urdf::parseURDFFile(urdf_path);
-  if (!urdf_model) throw LoadError(urdf_path, "", "not a valid URDF (urdfdom could not parse it)");
+  if (!std::filesystem::is_regular_file(urdf_path))
+    throw LoadError(robot_yaml_path, "key 'urdf'", "not a regular file: " + urdf_path);
+  if (std::filesystem::file_size(urdf_path) > yaml::Reader::kMaxFileBytes)
+    throw LoadError(urdf_path, "", "URDF larger than " + std::to_string(yaml::Reader::kMaxFileBytes) + " bytes");
+  std::string urdfdom_reason;
+  const urdf::ModelInterfaceSharedPtr urdf_model = parse_urdf(urdf_path, &urdfdom_reason);
+  if (!urdf_model)
+    throw LoadError(urdf_path, "", "not a valid URDF: " +
+                                       (urdfdom_reason.empty() ? std::string("urdfdom gave no reason") : urdfdom_reason));
 
   const urdf::LinkConstSharedPtr root = urdf_model->getRoot();
   if (!root || root->name != base_link)
@@ -173,6 +268,13 @@ RobotModel load_robot_model(const std::string& robot_yaml_path) {
     if (!joint->limits || !(joint->limits->upper > joint->limits->lower) || !(joint->limits->velocity > 0))
       throw LoadError(urdf_path, "joint '" + arm_joint_names[i] + "'",
                       "needs <limit> with lower < upper and velocity > 0");
+    if (!(std::abs(joint->limits->lower) <= kRobotMaxJointAngle_rad) ||
+        !(std::abs(joint->limits->upper) <= kRobotMaxJointAngle_rad) ||
+        !(joint->limits->velocity <= kRobotMaxJointVelocity_radps))
+      throw LoadError(urdf_path, "joint '" + arm_joint_names[i] + "'",
+                      "limits must be within +-" + fmt(kRobotMaxJointAngle_rad) + " rad and velocity at most " +
+                          fmt(kRobotMaxJointVelocity_radps) + " rad/s (got [" + fmt(joint->limits->lower) + ", " +
+                          fmt(joint->limits->upper) + "], " + fmt(joint->limits->velocity) + ")");
     arm_index[arm_joint_names[i]] = i;
   }
   for (const auto& [name, value] : frozen) {
@@ -192,6 +294,14 @@ RobotModel load_robot_model(const std::string& robot_yaml_path) {
       const std::string child = child_joint->child_link_name;
       const std::string element = "joint '" + child_joint->name + "'";
       const int parent_chain = chain_of[link->name];
+      check_pose(child_joint->parent_to_joint_origin_transform, urdf_path, element);
+      if (child_joint->type == urdf::Joint::REVOLUTE || child_joint->type == urdf::Joint::CONTINUOUS ||
+          child_joint->type == urdf::Joint::PRISMATIC) {
+        const Eigen::Vector3d axis = to_eigen(child_joint->axis);
+        if (!axis.allFinite() || !(axis.norm() > 1e-9))
+          throw LoadError(urdf_path, element, "axis must be a finite non-zero vector (got [" + fmt(axis.x()) + " " +
+                                                  fmt(axis.y()) + " " + fmt(axis.z()) + "])");
+      }
       Eigen::Isometry3d T = T_chain_link[link->name] * to_eigen(child_joint->parent_to_joint_origin_transform);
       const auto arm = arm_index.find(child_joint->name);
       if (arm != arm_index.end()) {

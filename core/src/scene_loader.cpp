@@ -19,7 +19,13 @@ namespace {
 
 using yaml::Reader;
 
-constexpr double kMaxVoxels = 2e9;
+constexpr double kPi = 3.14159265358979323846;
+
+/// (-pi, pi]; exact for any finite angle (std::remainder is exact).
+double wrap_angle(double a) {
+  const double w = std::remainder(a, 2.0 * kPi);
+  return w <= -kPi ? w + 2.0 * kPi : w;
+}
 
 std::string join_keys(const std::map<std::string, double>& m) {
   std::string s;
@@ -83,6 +89,10 @@ class SceneParser {
  private:
   // ---- numbers, with "$name" parameter references -------------------------------------------
   double number(const Reader& r) const {
+    const double v = raw_number(r);
+    return bounded(r, v);
+  }
+  double raw_number(const Reader& r) const {
     if (r.is_scalar() && !r.node().Scalar().empty() && r.node().Scalar()[0] == '$') {
       const std::string name = r.node().Scalar().substr(1);
       const auto it = params_.find(name);
@@ -92,6 +102,12 @@ class SceneParser {
     }
     return r.as_double();
   }
+  double bounded(const Reader& r, double v) const {
+    if (!(std::abs(v) <= kSceneMaxMagnitude_m))
+      r.fail("must be within +-" + fmt(kSceneMaxMagnitude_m) + ", got " + fmt(v));
+    return v;
+  }
+  double yaw_of(const Reader& r) const { return wrap_angle(number(r)); }
   double positive(const Reader& r) const {
     const double v = number(r);
     if (!(v > 0.0)) r.fail("must be positive, got " + fmt(v));
@@ -102,10 +118,11 @@ class SceneParser {
     if (v < 0.0) r.fail("must not be negative, got " + fmt(v));
     return v;
   }
-  int integer(const Reader& r, int min_value) const {
-    const double v = number(r);
-    if (v != std::floor(v) || std::abs(v) > 1e9) r.fail("expected an integer, got " + fmt(v));
+  int integer(const Reader& r, int min_value, int max_value) const {
+    const double v = raw_number(r);
+    if (v != std::floor(v)) r.fail("expected an integer, got " + fmt(v));
     if (v < min_value) r.fail("must be at least " + std::to_string(min_value) + ", got " + fmt(v));
+    if (v > max_value) r.fail("must be at most " + std::to_string(max_value) + ", got " + fmt(v));
     return static_cast<int>(v);
   }
   std::vector<double> numbers(const Reader& r, std::size_t n) const {
@@ -141,7 +158,7 @@ class SceneParser {
         const Reader v = p.get(key);
         if (key.empty() || !(std::isalpha(static_cast<unsigned char>(key[0])) || key[0] == '_'))
           v.fail("a parameter name must start with a letter or '_'");
-        params_[key] = v.as_double();
+        params_[key] = bounded(v, v.as_double());
       }
     }
     for (const auto& [name, value] : options_.parameter_overrides) {
@@ -150,8 +167,9 @@ class SceneParser {
         throw LoadError(root_.file(), "key 'parameters'",
                         "override '" + name + "' names no parameter of this scene (declared: " +
                             join_keys(params_) + ")");
-      if (!std::isfinite(value))
-        throw LoadError(root_.file(), "key 'parameters." + name + "'", "override is not a finite number");
+      if (!(std::abs(value) <= kSceneMaxMagnitude_m))
+        throw LoadError(root_.file(), "key 'parameters." + name + "'",
+                        "override " + fmt(value) + " is not a number within +-" + fmt(kSceneMaxMagnitude_m));
       it->second = value;
     }
   }
@@ -178,9 +196,16 @@ class SceneParser {
     s.bounds_W = Eigen::AlignedBox3d(lo, hi);
     const Reader res = root_.get("resolution");
     s.resolution_m = positive(res);
+    if (s.resolution_m < kSceneMinResolution_m || s.resolution_m > kSceneMaxResolution_m)
+      res.fail("must be within [" + fmt(kSceneMinResolution_m) + ", " + fmt(kSceneMaxResolution_m) + "] m, got " +
+               fmt(s.resolution_m));
+    // Checked before anything is allocated over the bounds.
     const Eigen::Vector3d n = ((hi - lo) / s.resolution_m).array().ceil();
-    if (n.prod() > kMaxVoxels)
-      res.fail("gives " + fmt(n.prod()) + " voxels over the bounds (limit " + fmt(kMaxVoxels) + ")");
+    const double bytes = n.prod() * kSceneBytesPerVoxel;
+    if (!(bytes <= options_.memory_cap_bytes))
+      res.fail("gives " + fmt(n.prod()) + " voxels over the bounds, about " + fmt(bytes / (1 << 20)) +
+               " MiB of maps at " + fmt(kSceneBytesPerVoxel) + " B per voxel, above the memory cap of " +
+               fmt(options_.memory_cap_bytes / (1 << 20)) + " MiB (coarser resolution or smaller bounds)");
   }
 
   RobotConfiguration read_configuration(const Reader& r, const Scene& s) const {
@@ -191,7 +216,7 @@ class SceneParser {
         b.y() > s.bounds_W.max().y())
       base.fail("base position (" + fmt(b.x()) + ", " + fmt(b.y()) + ") is outside the scene bounds");
     RobotConfiguration c;
-    c.base = {b.x(), b.y(), b.z()};
+    c.base = {b.x(), b.y(), wrap_angle(b.z())};
     const auto q = numbers(r.get("arm"), kNumArmJoints);
     for (int j = 0; j < kNumArmJoints; ++j) c.q_rad[j] = q[static_cast<std::size_t>(j)];
     return c;
@@ -221,7 +246,7 @@ class SceneParser {
       body.expect_keys({"center", "size", "yaw", "name"});
       const Eigen::Vector3d c = vec3(body.get("center"));
       const Eigen::Vector3d size = positive_vec3(body.get("size"));
-      const double yaw = body.has("yaw") ? number(body.get("yaw")) : 0.0;
+      const double yaw = body.has("yaw") ? yaw_of(body.get("yaw")) : 0.0;
       add(s, make_box(size, planar_pose(c.x(), c.y(), c.z(), yaw), optional_name(body, fallback)), body);
     } else if (type == "cylinder") {
       body.expect_keys({"center", "radius", "z", "name"});
@@ -268,7 +293,7 @@ class SceneParser {
       pose.expect_keys({"xyz", "rpy"});
       if (pose.has("xyz")) T.translation() = vec3(pose.get("xyz"));
       if (pose.has("rpy")) {
-        const Eigen::Vector3d rpy = vec3(pose.get("rpy"));
+        const Eigen::Vector3d rpy = vec3(pose.get("rpy")).unaryExpr([](double a) { return wrap_angle(a); });
         T.linear() = yaml::rpy_to_matrix(rpy[0], rpy[1], rpy[2]);
       }
     }
@@ -286,7 +311,7 @@ class SceneParser {
   void read_bridge(const Reader& body, const std::string& fallback, Scene& s) {
     body.expect_keys({"center", "yaw", "opening_width", "clearance", "wall_width", "depth", "height", "name"});
     const Eigen::Vector2d c = vec2(body.get("center"));
-    const double yaw = body.has("yaw") ? number(body.get("yaw")) : 0.0;
+    const double yaw = body.has("yaw") ? yaw_of(body.get("yaw")) : 0.0;
     const Reader opening_r = body.get("opening_width");
     const double opening = positive(opening_r);
     const Reader clearance_r = body.get("clearance");
@@ -319,7 +344,7 @@ class SceneParser {
     const Reader body = item.get(type);
     body.expect_keys({"count", "region", "radius", "height", "min_clearance", "max_attempts", "name"});
     ColumnFieldSpec spec;
-    spec.count = integer(body.get("count"), 0);
+    spec.count = integer(body.get("count"), 0, kSceneMaxColumns);
     const Reader region = body.get("region");
     region.expect_keys({"min", "max"});
     spec.region_min_W = vec2(region.get("min"));
@@ -335,7 +360,10 @@ class SceneParser {
     spec.radius_max_m = std::min(r[1], 0.5 * (spec.region_max_W - spec.region_min_W).minCoeff());
     spec.height_m = positive(body.get("height"));
     spec.min_clearance_m = nonnegative(body.get("min_clearance"));
-    spec.max_attempts = body.has("max_attempts") ? integer(body.get("max_attempts"), 1) : 1000;
+    spec.max_attempts = body.has("max_attempts") ? integer(body.get("max_attempts"), 1, kSceneMaxAttempts) : 1000;
+    if (static_cast<double>(spec.count) * spec.max_attempts > kSceneMaxPlacementTries)
+      body.fail("count x max_attempts = " + fmt(static_cast<double>(spec.count) * spec.max_attempts) +
+                " placement tries exceeds " + fmt(kSceneMaxPlacementTries));
     spec.name_prefix = optional_name(body, body.path());
     const std::vector<Eigen::Vector2d> keep_clear = {{s.start.base.x_m, s.start.base.y_m},
                                                      {s.goal.base.x_m, s.goal.base.y_m}};
@@ -360,13 +388,7 @@ Scene load_scene(const std::string& path, const SceneLoadOptions& options) {
 }
 
 Scene parse_scene(const std::string& yaml_text, const std::string& file_label, const SceneLoadOptions& options) {
-  YAML::Node node;
-  try {
-    node = YAML::Load(yaml_text);
-  } catch (const YAML::Exception& e) {
-    throw LoadError(file_label, "line " + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
-  }
-  return SceneParser(Reader(node, file_label), options).parse();
+  return SceneParser(Reader::parse(yaml_text, file_label), options).parse();
 }
 
 }  // namespace porter

@@ -118,8 +118,9 @@ TrajectoryResult Trajectory::create(std::vector<TrajectoryPiece> pieces, double 
     r.error = "pieces: a trajectory needs at least one piece";
     return r;
   }
-  if (!std::isfinite(start_yaw_rad)) {
-    r.error = "start_yaw_rad: must be finite (got " + num(start_yaw_rad) + ")";
+  if (!std::isfinite(start_yaw_rad) || std::abs(start_yaw_rad) > kTrajMaxReach) {
+    r.error = "start_yaw_rad: must be finite and within +-" + num(kTrajMaxReach) + " (got " +
+              num(start_yaw_rad) + ")";
     return r;
   }
   double total = 0.0;
@@ -128,6 +129,11 @@ TrajectoryResult Trajectory::create(std::vector<TrajectoryPiece> pieces, double 
     const std::string where = "pieces[" + std::to_string(i) + "]";
     if (!std::isfinite(p.duration_s) || !(p.duration_s > 0.0)) {
       r.error = where + ".duration_s: must be finite and > 0 (got " + num(p.duration_s) + ")";
+      return r;
+    }
+    if (p.duration_s < kTrajMinPieceDuration_s || p.duration_s > kTrajMaxPieceDuration_s) {
+      r.error = where + ".duration_s: must be within [" + num(kTrajMinPieceDuration_s) + ", " +
+                num(kTrajMaxPieceDuration_s) + "] s (got " + num(p.duration_s) + ")";
       return r;
     }
     if (p.eta != 1 && p.eta != -1) {
@@ -141,12 +147,19 @@ TrajectoryResult Trajectory::create(std::vector<TrajectoryPiece> pieces, double 
                     "]: must be finite (got " + num(p.coeffs(k, d)) + ")";
           return r;
         }
+        const double reach = std::abs(p.coeffs(k, d)) * std::pow(p.duration_s, k);
+        if (!(reach <= kTrajMaxReach)) {
+          r.error = where + ".coeffs[" + std::to_string(k) + "][" + std::to_string(d) + "]: |c| T^" +
+                    std::to_string(k) + " = " + num(reach) + " exceeds " + num(kTrajMaxReach) +
+                    " (got " + num(p.coeffs(k, d)) + " over " + num(p.duration_s) + " s)";
+          return r;
+        }
       }
     }
     total += p.duration_s;
   }
-  if (!std::isfinite(total)) {
-    r.error = "pieces: total duration is not finite";
+  if (!(total <= kTrajMaxTotalDuration_s)) {
+    r.error = "pieces: total duration " + num(total) + " s exceeds " + num(kTrajMaxTotalDuration_s) + " s";
     return r;
   }
   r.trajectory.emplace(Trajectory(std::move(pieces), start_yaw_rad));

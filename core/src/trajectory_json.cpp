@@ -9,6 +9,9 @@ namespace {
 
 using nlohmann::json;
 
+// 256 pieces take ~30 kB; 64 MiB bounds what a document may make the parser allocate.
+constexpr std::size_t kMaxJsonBytes = std::size_t{64} << 20;
+
 // Returns an error message for the first key of obj that is not in allowed, or "".
 std::string unknown_key(const json& obj, const std::string& where,
                         std::initializer_list<const char*> allowed) {
@@ -67,12 +70,19 @@ std::string to_json(const Trajectory& trajectory, int indent) {
   return doc.dump(indent < 0 ? -1 : indent);
 }
 
-TrajectoryResult trajectory_from_json(const std::string& text) {
+static TrajectoryResult parse_document(const std::string& text) {
+  if (text.size() > kMaxJsonBytes) {
+    return failure("document of " + std::to_string(text.size()) + " bytes exceeds the " +
+                   std::to_string(kMaxJsonBytes) + "-byte limit");
+  }
   json doc;
   try {
     doc = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {
+    // parse_error, and out_of_range for a number beyond double (1e309).
     return failure(std::string("not valid JSON: ") + e.what());
+  } catch (const std::exception& e) {
+    return failure(std::string("cannot read the JSON document: ") + e.what());
   }
   if (!doc.is_object()) return failure("expected a JSON object at the top level");
   std::string err = unknown_key(doc, "", {"dimension", "degree", "start_yaw_rad", "pieces"});
@@ -136,6 +146,14 @@ TrajectoryResult trajectory_from_json(const std::string& text) {
     pieces.push_back(std::move(p));
   }
   return Trajectory::create(std::move(pieces), start_yaw_rad);
+}
+
+TrajectoryResult trajectory_from_json(const std::string& text) {
+  try {
+    return parse_document(text);
+  } catch (const std::exception& e) {  // std::bad_alloc: the header promises no exception
+    return failure(std::string("cannot read the JSON document: ") + e.what());
+  }
 }
 
 }  // namespace porter

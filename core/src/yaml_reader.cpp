@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <set>
 
 namespace porter::yaml {
 
@@ -12,15 +13,83 @@ std::string describe(const YAML::Node& n) {
   if (n.IsSequence()) return "a sequence";
   return "a map";
 }
+
+constexpr std::size_t kMaxFileBytes = Reader::kMaxFileBytes;
+constexpr std::size_t kMaxNodes = Reader::kMaxNodes;
+constexpr int kMaxDepth = Reader::kMaxDepth;
+
+std::string line_of(const YAML::Node& n) {
+  const YAML::Mark m = n.Mark();
+  return m.is_null() ? std::string() : " (line " + std::to_string(m.line + 1) + ")";
+}
+
+// yaml-cpp keeps every pair of a map whose key repeats and operator[] returns the first, so a
+// repeated key would silently lose its second value: refuse it, and keys that are not scalars
+// (a sequence or map as key) which no Porter config uses. The walk also bounds the nesting
+// depth and the number of nodes visited (aliases are visited again at each use, so a
+// "billion laughs" file is refused here instead of in a loader's loop).
+void check_tree(const YAML::Node& node, const std::string& file, const std::string& path, int depth,
+                std::size_t& visited) {
+  if (++visited > kMaxNodes)
+    throw LoadError(file, "", "more than " + std::to_string(kMaxNodes) + " YAML nodes (aliases counted at each use)");
+  if (depth > kMaxDepth)
+    throw LoadError(file, path.empty() ? std::string() : "key '" + path + "'",
+                    "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+  if (node.IsMap()) {
+    std::set<std::string> seen;
+    for (const auto& kv : node) {
+      if (!kv.first.IsScalar())
+        throw LoadError(file, path.empty() ? std::string() : "key '" + path + "'",
+                        "a map key must be a plain name, got " + describe(kv.first) + line_of(kv.first));
+      const std::string& key = kv.first.Scalar();
+      const std::string child = path.empty() ? key : path + "." + key;
+      if (!seen.insert(key).second)
+        throw LoadError(file, "key '" + child + "'", "appears twice in the same map" + line_of(kv.first));
+      check_tree(kv.second, file, child, depth + 1, visited);
+    }
+  } else if (node.IsSequence()) {
+    for (std::size_t i = 0; i < node.size(); ++i)
+      check_tree(node[i], file, path + "[" + std::to_string(i) + "]", depth + 1, visited);
+  }
+}
+
+Reader checked(YAML::Node node, const std::string& file) {
+  std::size_t visited = 0;
+  check_tree(node, file, "", 0, visited);
+  return Reader(std::move(node), file);
+}
+
 }  // namespace
 
 Reader Reader::load_file(const std::string& file) {
-  if (!std::filesystem::exists(file)) throw LoadError(file, "", "file not found");
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw LoadError(file, "", "file not found");
+  if (!std::filesystem::is_regular_file(file, ec)) throw LoadError(file, "", "not a regular file");
+  const auto bytes = std::filesystem::file_size(file, ec);
+  if (ec) throw LoadError(file, "", "cannot read its size: " + ec.message());
+  if (bytes > kMaxFileBytes)
+    throw LoadError(file, "", "file of " + std::to_string(bytes) + " bytes exceeds the " +
+                                  std::to_string(kMaxFileBytes) + "-byte limit for a config file");
+  YAML::Node node;
   try {
-    return Reader(YAML::LoadFile(file), file);
+    node = YAML::LoadFile(file);
   } catch (const YAML::Exception& e) {
     throw LoadError(file, "line " + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
   }
+  return checked(std::move(node), file);
+}
+
+Reader Reader::parse(const std::string& text, const std::string& file_label) {
+  if (text.size() > kMaxFileBytes)
+    throw LoadError(file_label, "", "text of " + std::to_string(text.size()) + " bytes exceeds the " +
+                                        std::to_string(kMaxFileBytes) + "-byte limit for a config file");
+  YAML::Node node;
+  try {
+    node = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw LoadError(file_label, "line " + std::to_string(e.mark.line + 1), "not valid YAML: " + e.msg);
+  }
+  return checked(std::move(node), file_label);
 }
 
 void Reader::fail(const std::string& reason) const {
@@ -53,7 +122,10 @@ std::size_t Reader::size() const {
 std::vector<std::string> Reader::keys() const {
   if (!node_.IsMap()) fail("expected a map, got " + describe(node_));
   std::vector<std::string> out;
-  for (const auto& kv : node_) out.push_back(kv.first.as<std::string>());
+  for (const auto& kv : node_) {
+    if (!kv.first.IsScalar()) fail("a map key must be a plain name, got " + describe(kv.first));
+    out.push_back(kv.first.Scalar());
+  }
   return out;
 }
 

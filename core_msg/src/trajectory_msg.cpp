@@ -56,7 +56,7 @@ minco_trajectory_t to_msg(const Trajectory& trajectory, int64_t start_utime, int
   return msg;
 }
 
-TrajectoryMsgResult from_msg(const minco_trajectory_t& msg) {
+static TrajectoryMsgResult convert(const minco_trajectory_t& msg) {
   if (msg.dimension != kTrajDim) {
     return failure("dimension: expected " + std::to_string(kTrajDim) + " (got " +
                    std::to_string(msg.dimension) + ")");
@@ -122,6 +122,14 @@ TrajectoryMsgResult from_msg(const minco_trajectory_t& msg) {
   r.value.emplace(StampedTrajectory{std::move(*built.trajectory), msg.utime, msg.start_utime,
                                     msg.plan_id, msg.frame_id, msg.payload_id});
   return r;
+}
+
+TrajectoryMsgResult from_msg(const minco_trajectory_t& msg) {
+  try {
+    return convert(msg);
+  } catch (const std::exception& e) {  // std::bad_alloc: the header promises no exception
+    return failure(std::string("cannot convert the message: ") + e.what());
+  }
 }
 
 }  // namespace porter

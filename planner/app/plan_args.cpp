@@ -19,12 +19,15 @@ const char* to_string(SafetyArg s) { return s == SafetyArg::kKcSvsdf ? "kc_svsdf
 
 const char* to_string(CollisionArg c) { return c == CollisionArg::kKernels ? "kernels" : "spheres"; }
 
+const char* to_string(AcceptanceArg a) { return a == AcceptanceArg::kExact ? "exact" : "kernels"; }
+
 std::string plan_usage() {
   return "usage: porter-plan --scene FILE [--seed N] [--set NAME=VALUE]... [--payload FILE]\n"
          "                   [--robot FILE] [--planner-config DIR] [--stages front|mid|full]\n"
          "                   [--frontend-budget-ms MS] [--midend-budget-ms MS] [--backend-budget-ms MS]\n"
          "                   [--backend-iterations N] [--safety kc_svsdf|svsdf_per_link]\n"
-         "                   [--collision kernels|spheres] [--self-collision-term on|off] [--out FILE] [--quiet]\n"
+         "                   [--collision kernels|spheres] [--self-collision-term on|off]\n"
+         "                   [--acceptance exact|kernels] [--clearance-margin-m M] [--out FILE] [--quiet]\n"
          "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
          "  --seed N                seed of the scene's random obstacles and of the planner\n"
          "                          (default: the scene file's seed)\n"
@@ -44,9 +47,14 @@ std::string plan_usage() {
          "                          svsdf_per_link (each link's SVSDF alone, the ablation baseline)\n"
          "  --collision C           kernels (shipped) or spheres (sphere-ESDF baseline in the\n"
          "                          front-end and as the back-end term; not with --safety); the\n"
-         "                          final re-check is by kernels either way\n"
+         "                          acceptance test is the same either way\n"
          "  --self-collision-term on|off  the back-end's self-collision penalty next to the safety\n"
          "                          term (shipped: on; not part of the paper, off for comparison)\n"
+         "  --acceptance A          the test a trajectory must pass to be executed: kernels (default:\n"
+         "                          the kernel check on the voxel map, inflated by 8-14 cm) or exact\n"
+         "                          (exact geometry against the scene's obstacles and the ground,\n"
+         "                          clearance >= the margin, no self-collision)\n"
+         "  --clearance-margin-m M  least exact clearance with --acceptance exact (default 0.02)\n"
          "  --out FILE              write the JSON result there\n"
          "  --quiet                 print nothing on success\n"
          "exit codes: 0 success, 1 planning failed (incl. a final trajectory in collision), 2 bad\n"
@@ -133,6 +141,15 @@ PlanArgs parse_plan_args(int argc, const char* const* argv) {
       if (v == "on") a.self_collision_term = true;
       else if (v == "off") a.self_collision_term = false;
       else throw ArgsError("--self-collision-term: expected on or off, got '" + v + "'");
+    } else if (flag == "--acceptance") {
+      const std::string v = value();
+      if (v == "exact") a.acceptance = AcceptanceArg::kExact;
+      else if (v == "kernels") a.acceptance = AcceptanceArg::kKernels;
+      else throw ArgsError("--acceptance: expected exact or kernels, got '" + v + "'");
+    } else if (flag == "--clearance-margin-m") {
+      const double m = parse_number(flag, value());
+      if (!(m >= 0.0)) throw ArgsError("--clearance-margin-m must be >= 0");
+      a.clearance_margin_m = m;
     } else if (flag == "--out") {
       a.out_path = value();
     } else if (flag == "--quiet") {

@@ -24,6 +24,11 @@ const char* to_string(SafetyArg s);
 enum class CollisionArg { kKernels, kSpheres };
 const char* to_string(CollisionArg c);
 
+/// The final acceptance test (--acceptance): exact geometry with a clearance margin, or the kernel
+/// check.
+enum class AcceptanceArg { kExact, kKernels };
+const char* to_string(AcceptanceArg a);
+
 /// Each optional field overrides the planner settings (config/planner/*.yaml) when given.
 struct PlanArgs {
   std::string scene_path;
@@ -43,6 +48,10 @@ struct PlanArgs {
   std::optional<CollisionArg> collision;
   /// The back-end's self-collision penalty (backend/self_collision_term.hpp), --self-collision-term.
   std::optional<bool> self_collision_term;
+  /// The final acceptance test: exact (FCL against the scene's obstacles, clearance >= the margin)
+  /// or kernels (the kernel trajectory check on the voxel map).
+  AcceptanceArg acceptance = AcceptanceArg::kKernels;
+  double clearance_margin_m = 0.02;  ///< --clearance-margin-m, with --acceptance exact
   std::optional<std::string> out_path;
   bool quiet = false;
   bool help = false;

@@ -158,6 +158,8 @@ std::string plan_result_json(const PlanRunInfo& info, const pipeline::PlanResult
   doc["payload_file"] = info.payload_file;
   doc["planner_config"] = info.planner_config;
   doc["checker"] = info.checker;
+  doc["acceptance"] = info.acceptance;
+  doc["clearance_margin_m"] = info.clearance_margin_m >= 0.0 ? json(info.clearance_margin_m) : json(nullptr);
   doc["stages"] = info.stages;
   doc["collision"] = info.collision;
   doc["safety"] = info.safety;

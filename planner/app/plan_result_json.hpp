@@ -26,6 +26,8 @@ struct PlanRunInfo {
   double frontend_budget_ms = 0.0;
   double midend_budget_ms = 0.0;
   double backend_budget_ms = 0.0;
+  std::string acceptance;             ///< the final acceptance test's name (exact | kernels)
+  double clearance_margin_m = -1.0;   ///< its exact clearance margin, m (negative: none stated)
 };
 
 /// Total base path length (sum of chord lengths between consecutive nodes), m.

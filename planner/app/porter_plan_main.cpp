@@ -16,6 +16,7 @@
 #include "porter/core/scene_loader.hpp"
 #include "porter/core/scene_voxelizer.hpp"
 #include "porter/pipeline/config_dir.hpp"
+#include "porter/pipeline/exact_acceptance.hpp"
 #include "porter/pipeline/planner.hpp"
 #include "porter/pipeline/settings_yaml.hpp"
 
@@ -100,6 +101,8 @@ int main(int argc, char** argv) {
   info.planner_config = *args.planner_config_dir;
 
   Scene scene;
+  RobotModel bare;
+  Payload payload;
   RobotModel model;
   pipeline::PlannerSettings settings;
   try {
@@ -111,8 +114,9 @@ int main(int argc, char** argv) {
     info.seed = scene.seed;
     info.parameters = scene.parameters;
     info.payload_file = args.payload_path ? *args.payload_path : scene.payload_file;
-    const RobotModel bare = load_robot_model(*args.robot_path);
-    model = info.payload_file.empty() ? bare : attach_payload(bare, load_payload(info.payload_file));
+    bare = load_robot_model(*args.robot_path);
+    if (!info.payload_file.empty()) payload = load_payload(info.payload_file);
+    model = info.payload_file.empty() ? bare : attach_payload(bare, payload);
     settings = pipeline::load_planner_settings(*args.planner_config_dir);
   } catch (const std::exception& e) {  // loaders throw LoadError; anything else is still bad input
     return fail(kBadFile, e.what());
@@ -133,8 +137,17 @@ int main(int argc, char** argv) {
     return fail(kBadFile, std::string("scene ") + args.scene_path + ": " + e.what());
   }
   info.checker = planner->frontend_checker().name();
-  const pipeline::MapUpdate map = planner->set_map(voxelize(scene));
+  const OccupancyGrid grid_W = voxelize(scene);
+  const pipeline::MapUpdate map = planner->set_map(grid_W);
   if (!map.ok) return fail(kBadFile, std::string("scene ") + args.scene_path + ": " + map.message);
+  if (args.acceptance == app::AcceptanceArg::kExact) {
+    pipeline::ExactAcceptanceSettings exact;
+    exact.margin_m = args.clearance_margin_m;
+    planner->set_acceptance(std::make_shared<pipeline::ExactClearanceAcceptance>(
+        bare, payload, scene, exact, planner->kernel_checker().robot(), grid_W));
+  }
+  info.acceptance = planner->acceptance().name();
+  info.clearance_margin_m = planner->acceptance().clearance_margin_m();
 
   pipeline::PlanRequest request;
   request.start = pipeline::StartState::at_rest(scene.start);

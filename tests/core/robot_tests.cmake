@@ -7,3 +7,5 @@ porter_add_test(test_robot_loader SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_robot_l
   LIBS porter::core porter::core_io)
 porter_add_test(test_payload SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_payload.cpp
   LIBS porter::core porter::core_io assimp::assimp)
+porter_add_test(test_mesh_hostile SOURCES ${CMAKE_CURRENT_LIST_DIR}/test_mesh_hostile.cpp
+  LIBS porter::core porter::core_io)

@@ -98,6 +98,21 @@ TEST(PayloadTest, YamlErrorsNameTheKey) {
   expect_payload_error(dir, "name: x\nshapes: [{sphere: {radius: 0.1}}]\ncolour: red\n" + grasp, "colour");
 }
 
+// A 20 m sphere took the planner to 6.6 GB; payload size is now bounded like a link's.
+TEST(PayloadTest, HostilePayloadsAreRefused) {
+  test::ScratchDir dir("payload_hostile");
+  const std::string grasp = "grasp: {xyz: [0, 0, 0], rpy: [0, 0, 0]}\n";
+  expect_payload_error(dir, "name: x\nshapes: [{sphere: {radius: 20}}]\n" + grasp, "shapes[0]': reaches 20");
+  expect_payload_error(dir, "name: x\nshapes: [{box: {size: [1e9, 1, 1]}}]\n" + grasp, "limit 5");
+  expect_payload_error(dir, "name: x\nshapes: [{sphere: {radius: 0.1}}]\ngrasp: {xyz: [6, 0, 0]}\n", "grasp offset");
+  expect_payload_error(dir, "name: x\nshapes: [{sphere: {radius: .nan}}]\n" + grasp, "expected a number");
+  expect_payload_error(dir, "name: x\nname: y\nshapes: [{sphere: {radius: 0.1}}]\n" + grasp, "appears twice");
+  // The shipped T-bar mesh scaled by 100 reaches beyond the limit.
+  const std::string mesh = test::source_dir() + "/config/payloads/meshes/t_bar.stl";
+  expect_payload_error(dir, "name: x\nmesh: {file: " + mesh + ", scale: 100}\n" + grasp, "key 'mesh'");
+  EXPECT_NO_THROW(load_payload(dir.file("p.yaml", "name: x\nshapes: [{sphere: {radius: 2}}]\n" + grasp)));
+}
+
 TEST(PayloadTest, PrimitivePayloadAttachesAtTheGrasp) {
   test::ScratchDir dir("payload_attach");
   const Payload p = load_payload(dir.file(

@@ -95,7 +95,7 @@ TEST_F(RobotLoaderTest, UnknownAndMissingKeys) {
   expect_error(urdf_, yaml_ + "\nextra_key: 1\n", {"robot.yaml", "extra_key", "unknown key"});
   expect_error(urdf_, replace(yaml_, "name: scout_mini_piper\n", ""), {"robot.yaml", "'name'", "missing"});
   expect_error(urdf_, replace(yaml_, "wheel_radius_m: 0.0875", "wheel_radius_m: -1"),
-               {"base.wheel_radius_m", "positive"});
+               {"base.wheel_radius_m", "must be within [0.001, 2], got -1"});
   expect_error(urdf_, replace(yaml_, "wheel_radius_m: 0.0875", "wheel_radius_m: fast"),
                {"base.wheel_radius_m", "expected a number"});
   expect_error(urdf_, replace(yaml_, "[3.0, 3.0, 3.0, 4.0, 4.0, 4.0]", "[3.0, 3.0]"),
@@ -164,6 +164,63 @@ TEST_F(RobotLoaderTest, MeshGeometryLoadsAndBadMeshesAreReported) {
   expect_error(replace(urdf_, flange, "<mesh filename=\"garbage.stl\"/>"), yaml_, {"link6", "garbage.stl"});
   expect_error(replace(urdf_, flange, "<mesh filename=\"package://piper/meshes/l6.stl\"/>"), yaml_,
                {"package://", "relative to the URDF"});
+}
+
+
+// Hostile robot files: every example the robot loader used to accept or crash on.
+TEST_F(RobotLoaderTest, NonPhysicalUrdfGeometryIsRefused) {
+  const std::string box = "<box size=\"0.25 0.06 0.07\"/>";
+  for (const std::string& size : {"0 0.06 0.07", "-0.25 0.06 0.07", "1e9 0.06 0.07"})
+    expect_error(replace(urdf_, box, "<box size=\"" + size + "\"/>"), yaml_,
+                 {"scout_mini_piper.urdf", "link 'link2' collision[0]", "box size x must be finite, > 0 and at most 5 m"});
+  // urdfdom cannot parse "nan", logs it, drops the collision element and returns a model; the
+  // loader refuses the file with urdfdom's reason.
+  expect_error(replace(urdf_, box, "<box size=\"nan 0.06 0.07\"/>"), yaml_,
+               {"scout_mini_piper.urdf", "not a valid URDF", "[nan]", "link2"});
+  // A small shape placed 1e9 m away overflowed an int in the planner's distance grid.
+  expect_error(replace(urdf_, "<origin xyz=\"0.1425 0.0 0.0\"", "<origin xyz=\"1e9 0.0 0.0\""), yaml_,
+               {"link 'link2' collision[0]", "origin is 1e+09 m from its parent (limit 5 m)"});
+  expect_error(replace(urdf_, "<cylinder radius=\"0.035\" length=\"0.02\"/>",
+                       "<cylinder radius=\"0.035\" length=\"0\"/>"),
+               yaml_, {"link6", "cylinder length"});
+}
+
+TEST_F(RobotLoaderTest, ZeroAxisAndAbsurdJointLimitsAreRefused) {
+  const std::string joint2_axis =
+      "<child link=\"link2\"/><origin xyz=\"0.0 0.0 0.0\" rpy=\"1.5707963267948966 -0.13578661580515894 "
+      "-3.141592653589793\"/><axis xyz=\"0 0 1\"/>";
+  std::string zero_axis = joint2_axis;
+  zero_axis.replace(zero_axis.find("0 0 1"), 5, "0 0 0");
+  expect_error(replace(urdf_, joint2_axis, zero_axis), yaml_, {"joint 'joint2'", "axis must be a finite non-zero vector"});
+  // Joint limits of +-1e6 rad never finished building the planner's tables.
+  expect_error(replace(urdf_, "lower=\"0.0\" upper=\"3.14\"", "lower=\"-1e6\" upper=\"1e6\""), yaml_,
+               {"joint 'joint2'", "limits must be within +-6.28319 rad"});
+}
+
+TEST_F(RobotLoaderTest, BaseParametersOutsideTheirRangesAreRefused) {
+  // wheel_radius_m: 1e308 planned "successfully" with NaN times; 1e-300 m turning radius aborted OMPL.
+  expect_error(urdf_, replace(yaml_, "wheel_radius_m: 0.0875", "wheel_radius_m: 1e308"),
+               {"robot.yaml", "base.wheel_radius_m", "must be within [0.001, 2]"});
+  expect_error(urdf_, replace(yaml_, "min_turning_radius_m: 0.4", "min_turning_radius_m: 1e-300"),
+               {"robot.yaml", "base.min_turning_radius_m", "must be within [0.001, 100]"});
+  expect_error(urdf_, replace(yaml_, "[3.0, 3.0, 3.0, 4.0, 4.0, 4.0]", "[3.0, 3.0, 3.0, 4.0, 4.0, 1e300]"),
+               {"joint_acceleration_max_radps2[5]", "must be within"});
+  expect_error(urdf_, replace(yaml_, "track_width_m: 0.4165", "track_width_m: 0.4165\n  track_width_m: 9"),
+               {"robot.yaml", "base.track_width_m", "appears twice"});
+}
+
+TEST_F(RobotLoaderTest, UrdfdomsReasonIsPassedOn) {
+  // urdfdom logs why it refuses a file through console_bridge; the error carries it.
+  try {
+    load(replace(urdf_, "<parent link=\"link1\"/><child link=\"link2\"/>",
+                 "<parent link=\"no_such_link\"/><child link=\"link2\"/>"),
+         yaml_);
+    FAIL();
+  } catch (const LoadError& e) {
+    EXPECT_NE(e.reason().find("not a valid URDF: "), std::string::npos) << e.what();
+    EXPECT_NE(e.reason().find("no_such_link"), std::string::npos) << e.what();
+  }
+  expect_error(urdf_, replace(yaml_, "urdf: scout_mini_piper.urdf", "urdf: ."), {"'urdf'", "not a regular file"});
 }
 
 }  // namespace

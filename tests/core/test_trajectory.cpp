@@ -57,12 +57,43 @@ TEST(Trajectory, CreateRejectsBadDurations) {
   }
 }
 
-TEST(Trajectory, CreateRejectsOverflowingTotal) {
-  std::vector<TrajectoryPiece> pieces(2);
-  for (auto& p : pieces) p.duration_s = std::numeric_limits<double>::max();
+TEST(Trajectory, CreateRejectsOverlongTotal) {
+  std::vector<TrajectoryPiece> pieces(25);
+  for (auto& p : pieces) p.duration_s = kTrajMaxPieceDuration_s;
   const TrajectoryResult r = Trajectory::create(pieces, 0.0);
   EXPECT_FALSE(r.ok());
   EXPECT_NE(r.error.find("total duration"), std::string::npos) << r.error;
+  pieces.resize(24);
+  EXPECT_TRUE(Trajectory::create(pieces, 0.0).ok()) << "exactly 24 h";
+}
+
+TEST(Trajectory, CreateRejectsDurationsOutsideTheLimits) {
+  for (double T : {std::numeric_limits<double>::max(), 3600.5, 1e-300, 0.9e-6}) {
+    std::vector<TrajectoryPiece> pieces(2);
+    for (auto& p : pieces) p.duration_s = 1.0;
+    pieces[1].duration_s = T;
+    const TrajectoryResult r = Trajectory::create(pieces, 0.0);
+    EXPECT_FALSE(r.ok()) << T;
+    EXPECT_NE(r.error.find("pieces[1].duration_s: must be within"), std::string::npos) << r.error;
+  }
+}
+
+// Huge finite coefficients used to be accepted and sampled to infinity.
+TEST(Trajectory, CreateRejectsCoefficientsThatReachTooFar) {
+  std::vector<TrajectoryPiece> pieces(1);
+  pieces[0].duration_s = 10.0;
+  pieces[0].coeffs(5, 0) = 1e300;
+  TrajectoryResult r = Trajectory::create(pieces, 0.0);
+  EXPECT_FALSE(r.ok());
+  EXPECT_NE(r.error.find("pieces[0].coeffs[5][0]: |c| T^5"), std::string::npos) << r.error;
+  pieces[0].coeffs(5, 0) = 1.01e6 / 1e5;  // 10.1 * 10^5 > 1e6
+  EXPECT_FALSE(Trajectory::create(pieces, 0.0).ok());
+  pieces[0].coeffs(5, 0) = 0.99e6 / 1e5;
+  r = Trajectory::create(pieces, 0.0);
+  ASSERT_TRUE(r.ok()) << r.error;
+  for (int order = 0; order <= 5; ++order)
+    EXPECT_TRUE(r.trajectory->derivative(10.0, order).allFinite()) << order;
+  EXPECT_FALSE(Trajectory::create(pieces, 1e11).ok()) << "absurd start yaw";
 }
 
 TEST(Trajectory, CreateRejectsBadEta) {

@@ -107,6 +107,10 @@ TEST(TrajectoryJson, RejectsMalformedDocuments) {
   expect_rejected(R"({"dimension": 8, "degree": 5, "start_yaw_rad": 0, "pieces": [3]})",
                   "pieces[0]: expected an object");
   expect_rejected(documented("0"), "pieces[0].eta: must be +1 or -1");
+  // A number beyond double: nlohmann::json throws out_of_range, which used to escape.
+  expect_rejected(R"({"dimension": 8, "degree": 5, "start_yaw_rad": 1e309, "pieces": []})",
+                  "not valid JSON");
+  expect_rejected(std::string(65 << 20, ' '), "exceeds the");
   expect_rejected(documented("1.0"), "pieces[0].eta: expected an integer");
 }
 

@@ -127,7 +127,20 @@ TEST(TrajectoryMsg, RejectsInconsistentMessages) {
       [](M& m) {
         for (double& T : m.durations_s) T = std::numeric_limits<double>::max();
       },
+      "pieces[0].duration_s: must be within");
+  expect_rejected(
+      [](M& m) {
+        for (double& T : m.durations_s) T = 3500.0;
+        for (double& c : m.coeffs) c = 0.0;
+        m.num_pieces = 30;
+        m.durations_s.assign(30, 3500.0);
+        m.eta.assign(30, 1);
+        m.num_coeffs = 30 * 48;
+        m.coeffs.assign(30 * 48, 0.0);
+      },
       "total duration");
+  // Huge finite coefficients used to be accepted and sampled to infinity.
+  expect_rejected([](M& m) { m.coeffs[(2 * 8 + 1) * 6 + 3] = 1e300; }, "pieces[2].coeffs[3][1]: |c| T^3");
 }
 
 }  // namespace

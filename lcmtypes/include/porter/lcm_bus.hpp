@@ -11,8 +11,11 @@
 // type on a channel, and no channel string appears in application code.
 //
 // Failure: nothing here throws or prints. A bus whose URL cannot be opened is !good(), and its
-// calls return failure. A message that does not decode as the channel's type (wrong type or a
-// truncated buffer) is dropped and counted in decode_failures(); a callback that throws is
+// calls return failure. Every datagram passes the guard (porter/lcm_guard.hpp) before lcm-gen's
+// decoder sees it, so no byte sequence can crash the process or make it read past the datagram.
+// A message that does not decode as the channel's type (wrong type, a truncated buffer, a string
+// length or array count the datagram cannot hold) is dropped and counted in decode_failures(),
+// with the reason in last_error(); a callback that throws is
 // counted in callback_failures() and its message kept in last_error(). Counted arrays must have
 // their count field equal to the vector size before publish (lcm-gen encodes `count` elements).
 //
@@ -36,6 +39,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "porter/channels.hpp"
+#include "porter/lcm_guard.hpp"
 
 namespace porter {
 
@@ -162,10 +166,17 @@ class LcmBus {
         : bus(owner), callback(std::move(cb)) {}
 
     // Raw handler: we decode ourselves so that failures are counted instead of printed.
+    // The guard runs first: lcm-gen's decoders trust the lengths in the bytes.
     // A fresh T per message: lcm-gen 1.3.1 leaves a vector untouched when its count is 0, so a
-    // reused decode target would keep the previous message's array. Corrupt counts or string
-    // lengths can make the generated decoder throw (std::length_error, std::bad_alloc).
+    // reused decode target would keep the previous message's array. The try block stays for
+    // std::bad_alloc on a datagram the guard accepted but memory could not hold.
     void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
+      const LcmGuardResult guard = lcm_guard_check<T>(rbuf->data, rbuf->data_size);
+      if (!guard.ok) {
+        bus->record_failure(bus->decode_failures_, "channel " + channel + ": not a valid " +
+                                                       T::getTypeName() + ": " + guard.describe());
+        return;
+      }
       const int size = static_cast<int>(rbuf->data_size);
       T message;
       bool decoded = false;

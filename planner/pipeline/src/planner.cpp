@@ -74,6 +74,12 @@ const planner::CollisionChecker& Planner::frontend_checker() const {
 
 void Planner::set_acceptance(std::shared_ptr<const planner::TrajectoryAcceptance> acceptance) {
   acceptance_ = acceptance ? std::move(acceptance) : std::make_shared<KernelAcceptance>(*kernels_);
+  // The back-end's margins follow the acceptance test's: rebuild its terms when they change.
+  if (setup_.backend_ready && acceptance_->clearance_margin_m() != setup_.safety_margin_m) {
+    setup_.backend_ready = false;
+    self_term_.reset();
+    safety_term_.reset();  // the per-link SDFs depend on the robot only and stay
+  }
 }
 
 MapUpdate Planner::set_map(const OccupancyGrid& map_W) {
@@ -111,12 +117,23 @@ void Planner::prepare_backend() {
   if (p.collision == baselines::CollisionModel::kSpheres) kind = baselines::SafetyModel::kSpheres;
   baselines::SafetyTermSettings terms = settings_.safety_terms;
   if (kind != baselines::SafetyModel::kSpheres) {
-    sdf_ = backend::RobotSdf::build(model_);
-    // s_j per link from the acceptance test's inflation (recheck_margins.hpp): a trajectory with a
-    // zero penalty then passes the kernel check.
-    std::array<double, kNumLinks> inflation{};
-    for (int j = 0; j < kNumLinks; ++j) inflation[static_cast<std::size_t>(j)] = kernels_->inflation_bound_m(j);
-    backend::apply_recheck_margins(backend::recheck_margins(inflation, kernel_robot_->resolution_m(), *sdf_), terms.svsdf);
+    if (!sdf_) sdf_ = backend::RobotSdf::build(model_);
+    // s_j per link from what the acceptance test demands (recheck_margins.hpp): the kernel check's
+    // inflation, or the exact clearance margin of a test that states one. The obstacles lie inside
+    // their occupied voxels, so a link whose distance to every voxel box is at least the margin
+    // keeps it to the obstacles too; a trajectory with a zero penalty then passes the test.
+    // The ground keeps the kernel-derived margin either way: the exact test's kernel filter does
+    // not dilate the ground, and with the margin alone the payload was left grazing it.
+    std::array<double, kNumLinks> inflation{}, kernel_inflation{};
+    const double margin_m = acceptance_->clearance_margin_m();
+    for (int j = 0; j < kNumLinks; ++j) {
+      kernel_inflation[static_cast<std::size_t>(j)] = kernels_->inflation_bound_m(j);
+      inflation[static_cast<std::size_t>(j)] = margin_m >= 0.0 ? margin_m : kernels_->inflation_bound_m(j);
+    }
+    setup_.safety_margin_m = margin_m;
+    backend::RecheckMargins margins = backend::recheck_margins(inflation, kernel_robot_->resolution_m(), *sdf_);
+    margins.ground_m = backend::recheck_margins(kernel_inflation, kernel_robot_->resolution_m(), *sdf_).ground_m;
+    backend::apply_recheck_margins(margins, terms.svsdf);
     if (p.self_collision_term) {
       // The self-collision penalty on the pairs the acceptance test examines.
       const planner::SelfCollisionChecker& self = kernel_robot_->self_collision();

@@ -22,10 +22,11 @@ def plan_command(exe, root, run, out_path):
            "--robot", os.path.join(root, "config", "robots", "scout_mini_piper", "robot.yaml")]
     for k, v in sorted(run["sets"].items()):
         cmd += ["--set", "%s=%s" % (k, v)]
-    b = run["budgets"]
-    cmd += ["--frontend-budget-ms", str(b["frontend"]), "--midend-budget-ms", str(b["midend"]),
-            "--backend-budget-ms", str(b["backend"])]
-    return cmd + tables.METHOD_FLAGS[run["method"]]
+    # A budget of None leaves porter-plan's default (config/planner/pipeline.yaml).
+    for stage, value in sorted(run["budgets"].items()):
+        if value is not None:
+            cmd += ["--%s-budget-ms" % stage, str(value)]
+    return cmd + tables.METHOD_FLAGS[run["method"]] + list(run.get("plan_args", []))
 
 
 def validate_command(exe, root, run, plan_path, report_path, trace_path=None):
@@ -35,7 +36,7 @@ def validate_command(exe, root, run, plan_path, report_path, trace_path=None):
         cmd += ["--set", "%s=%s" % (k, v)]
     if trace_path:
         cmd += ["--trace", trace_path]
-    return cmd
+    return cmd + list(run.get("validate_flags", []))
 
 
 def _load(path):
@@ -86,9 +87,10 @@ def within_budget(run, p):
         return False
     if b["frontend"] is not None and p["frontend_ms"] > limit(b["frontend"]):
         return False
-    if p["midend_optimize_ms"] is not None and p["midend_optimize_ms"] > limit(b["midend"]):
+    if b["midend"] is not None and p["midend_optimize_ms"] is not None and p["midend_optimize_ms"] > limit(b["midend"]):
         return False
-    if p["backend_optimize_ms"] is not None and p["backend_optimize_ms"] > limit(b["backend"]):
+    if b["backend"] is not None and p["backend_optimize_ms"] is not None and \
+            p["backend_optimize_ms"] > limit(b["backend"]):
         return False
     return True
 

@@ -83,12 +83,24 @@ inline std::string read_text(const std::string& path) {
   return s.str();
 }
 
-/// Writes `text` to a file of this test run (per PID) and returns its path.
+/// This test run's directory for config files (per PID), removed when the program ends.
+struct TempDir {
+  TempDir()
+      : path(std::filesystem::temp_directory_path() /
+             ("porter_sim_process_" + std::to_string(::getpid()))) {
+    std::filesystem::create_directories(path);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+  std::filesystem::path path;
+};
+
+/// Writes `text` to a file of this test run and returns its path.
 inline std::string write_temp(const std::string& name, const std::string& text) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("porter_sim_process_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  const std::string path = (dir / name).string();
+  static TempDir dir;
+  const std::string path = (dir.path / name).string();
   std::ofstream(path) << text;
   return path;
 }

@@ -21,9 +21,11 @@ class PorterPlanFull : public porter::test::PlanCliTest {
     return std::string(PORTER_SOURCE_DIR) + "/config/scenes/" + name + ".yaml";
   }
   /// Bridge at h_b = 0.9 with budgets large enough that no stage stops on time: the front-end and
-  /// mid-end converge, and the back-end stops at its iteration cap.
+  /// mid-end converge, and the back-end stops at its iteration cap. Accepted by the kernel check
+  /// (whose inflation makes the mid-end's trajectory collide here, so the back-end runs).
   std::string bridge_full(const std::string& out, const std::string& extra = "") const {
-    return "--scene " + scene("bridge") + " --set h_b=0.9 --seed 4 --stages full --frontend-budget-ms 20000" +
+    return "--scene " + scene("bridge") + " --set h_b=0.9 --seed 4 --stages full --acceptance kernels" +
+           " --frontend-budget-ms 20000" +
            " --midend-budget-ms 20000 --backend-budget-ms 120000 --backend-iterations 3 --out " +
            (dir_ / out).string() + " " + extra;
   }
@@ -43,6 +45,10 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   EXPECT_NE(file("stderr.txt").find("--backend-budget-ms must be > 0"), std::string::npos);
   EXPECT_EQ(run(base + "--midend-budget-ms abc"), 2);
   EXPECT_EQ(run(base + "--backend-iterations 0"), 2);
+  EXPECT_EQ(run(base + "--acceptance fcl"), 2);
+  EXPECT_NE(file("stderr.txt").find("--acceptance: expected exact or kernels, got 'fcl'"), std::string::npos);
+  EXPECT_EQ(run(base + "--clearance-margin-m -0.01"), 2);
+  EXPECT_NE(file("stderr.txt").find("--clearance-margin-m must be >= 0"), std::string::npos);
   // The sphere baseline brings its own back-end term: an explicit --safety contradicts it.
   EXPECT_EQ(run(base + "--collision spheres --safety kc_svsdf"), 2);
   EXPECT_NE(file("stderr.txt").find("--safety does not apply with --collision spheres"), std::string::npos);
@@ -52,6 +58,17 @@ TEST_F(PorterPlanFull, BadBackendFlagsAreExitCode2) {
   EXPECT_EQ(doc["format"], "porter-plan-result/4");
   EXPECT_EQ(doc["safety"], "svsdf_per_link");
   EXPECT_TRUE(doc["backend"].is_null());
+  // The default acceptance is the kernel check (no margin stated); --acceptance exact with its
+  // margin is recorded in the result and names the final check.
+  EXPECT_EQ(doc["acceptance"], "kernels");
+  EXPECT_TRUE(doc["clearance_margin_m"].is_null());
+  EXPECT_EQ(run(base + "--acceptance exact --clearance-margin-m 0.03 --out " + (dir_ / "x.json").string()), 0)
+      << file("stderr.txt");
+  const auto exact = nlohmann::json::parse(file("x.json"));
+  EXPECT_EQ(exact["acceptance"], "exact");
+  EXPECT_DOUBLE_EQ(exact["clearance_margin_m"].get<double>(), 0.03);
+  EXPECT_EQ(exact["final_check"]["checker"], "exact");
+  EXPECT_TRUE(exact["final_check"]["collision_free"].get<bool>());
   EXPECT_EQ(doc["final_check"]["stage"], "midend");
   EXPECT_TRUE(doc["final_check"]["collision_free"].get<bool>());
 }

@@ -2,9 +2,10 @@
 // Scene files (config/scenes/*.yaml; format in config/scenes/README.md) -> Scene. Part of
 // porter::core_io.
 //
-// Strict: an unknown key, a missing field, a wrong type, a negative or zero size or
-// resolution, bounds with min >= max, an unknown parameter reference or override, or random
-// columns that cannot all be placed throw LoadError naming the file and the key path
+// Strict: an unknown key, a repeated key, a missing field, a wrong type, a negative or zero
+// size or resolution, a number outside the limits below, bounds with min >= max, maps that would
+// need more memory than the cap, an unknown parameter reference or override, or random columns
+// that cannot all be placed throw LoadError naming the file and the key path
 // (e.g. "key 'obstacles[3].box.size'").
 //
 // Thread-safety: reentrant.
@@ -18,7 +19,30 @@
 
 namespace porter {
 
+/// Limits of a scene file, each refused with the figure (docs/hardening.md says why):
+/// - every number (coordinates, sizes, radii, parameters) within +-kSceneMaxMagnitude_m: 10 km
+///   is beyond any site the robot drives, and keeps voxel indices and products far from
+///   overflow;
+/// - resolution in [kSceneMinResolution_m, kSceneMaxResolution_m] (the planner's kernels need
+///   the same range), and the voxel count times kSceneBytesPerVoxel within
+///   SceneLoadOptions::memory_cap_bytes;
+/// - random columns: count <= kSceneMaxColumns, max_attempts <= kSceneMaxAttempts and
+///   count * max_attempts <= kSceneMaxPlacementTries (each try tests every placed obstacle);
+/// - yaws (start, goal, boxes, bridges) are wrapped to (-pi, pi].
+inline constexpr double kSceneMaxMagnitude_m = 1e4;
+inline constexpr double kSceneMinResolution_m = 0.005;
+inline constexpr double kSceneMaxResolution_m = 1.0;
+/// Memory a voxel of the scene's bounds costs once the planner builds its maps over them:
+/// occupancy and kernel sets (bits), summed-area table (2 B), clearance (1 B), distance field
+/// (4 B), rounded up.
+inline constexpr double kSceneBytesPerVoxel = 8.0;
+inline constexpr int kSceneMaxColumns = 1000;
+inline constexpr int kSceneMaxAttempts = 100000;
+inline constexpr double kSceneMaxPlacementTries = 1e6;
+
 struct SceneLoadOptions {
+  /// Largest memory the scene's maps may need (voxels x kSceneBytesPerVoxel), bytes.
+  double memory_cap_bytes = 2.0 * (1u << 30);
   /// Seed of the random generators; when absent the file's `seed` (default 0) is used.
   std::optional<std::uint64_t> seed;
   /// Values replacing the defaults of the file's `parameters`; naming a parameter the file does

@@ -68,6 +68,19 @@ struct BaseLimits;  // robot_model.hpp
 inline constexpr int kTrajDegree = 5;
 inline constexpr int kTrajNumCoeffs = kTrajDegree + 1;
 
+/// Limits Trajectory::create() enforces on runtime data (a file, the network). Beyond them a
+/// trajectory is nothing a robot follows, and sampling it could overflow to infinity:
+/// - a piece lasts [kTrajMinPieceDuration_s, kTrajMaxPieceDuration_s] (1 us .. 1 h), the whole
+///   trajectory at most kTrajMaxTotalDuration_s (24 h);
+/// - every term of every piece stays within kTrajMaxReach over the piece: |c_k| T^k <=
+///   kTrajMaxReach (m or rad), so positions stay within 6 * kTrajMaxReach and, with T >= 1 us,
+///   every derivative stays finite;
+/// - |start_yaw_rad| <= kTrajMaxReach.
+inline constexpr double kTrajMinPieceDuration_s = 1e-6;
+inline constexpr double kTrajMaxPieceDuration_s = 3600.0;
+inline constexpr double kTrajMaxTotalDuration_s = 86400.0;
+inline constexpr double kTrajMaxReach = 1e6;
+
 /// Below this speed the base is treated as at rest: for the heading rule at an instant that is
 /// not next to a rest end of its piece, and to recognise a piece end as a rest instant.
 inline constexpr double kRestSpeed_mps = 1e-5;
@@ -125,7 +138,8 @@ class Trajectory {
  public:
   /// Validates and builds a trajectory. Fails (with a reason naming the piece) when there are no
   /// pieces, a duration is not finite and > 0, an eta is not +1/-1, a coefficient is not finite,
-  /// start_yaw_rad is not finite, or the total duration overflows.
+  /// start_yaw_rad is not finite, or a limit above (kTrajMin/MaxPieceDuration_s,
+  /// kTrajMaxTotalDuration_s, kTrajMaxReach) is exceeded.
   static TrajectoryResult create(std::vector<TrajectoryPiece> pieces, double start_yaw_rad);
 
   /// first followed by second (second's t = 0 at first's end), with first's start_yaw_rad; a

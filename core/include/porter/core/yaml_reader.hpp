@@ -4,7 +4,11 @@
 //
 // Every accessor names the file and the full key path in its LoadError, e.g.
 //   "config/robots/x/robot.yaml: key 'base.wheel_radius_m': expected a number, got 'abc'".
-// Unknown keys are rejected by expect_keys(); a missing key by get().
+// Unknown keys are rejected by expect_keys(); a missing key by get(). load_file() and parse()
+// also refuse what yaml-cpp would accept silently: a key repeated in one map (yaml-cpp keeps
+// both and get() would see the first), a key that is not a plain scalar, nesting deeper than
+// kMaxDepth, more than kMaxNodes nodes (aliases counted at each use), and files larger than
+// kMaxFileBytes; a path that is a directory is "not a regular file".
 
 #include <initializer_list>
 #include <string>
@@ -23,8 +27,18 @@ class Reader {
   Reader(YAML::Node node, std::string file, std::string path = "")
       : node_(std::move(node)), file_(std::move(file)), path_(std::move(path)) {}
 
-  /// Parses a file; throws LoadError when it is missing or not YAML.
+  /// Largest config file read, bytes (the largest shipped config is a few kB).
+  static constexpr std::size_t kMaxFileBytes = std::size_t{16} << 20;
+  /// Most YAML nodes one document may hold, aliases counted at each use.
+  static constexpr std::size_t kMaxNodes = 1'000'000;
+  /// Deepest nesting of maps and sequences.
+  static constexpr int kMaxDepth = 64;
+
+  /// Parses a file; throws LoadError when it is missing, not a regular file, too large, not
+  /// YAML, or breaks the rules above.
   static Reader load_file(const std::string& file);
+  /// Parses YAML held in memory with the same checks; `file_label` names it in errors.
+  static Reader parse(const std::string& text, const std::string& file_label);
 
   const std::string& file() const { return file_; }
   const std::string& path() const { return path_; }

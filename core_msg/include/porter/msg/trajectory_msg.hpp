@@ -42,7 +42,8 @@ minco_trajectory_t to_msg(const Trajectory& trajectory, int64_t start_utime, int
 /// Validates and converts a message. Fails when dimension != 8 or order != 5, num_pieces < 1,
 /// an array's length disagrees with its count (num_pieces, num_coeffs), num_coeffs !=
 /// num_pieces * dimension * (order + 1), a duration is not finite and > 0, an eta is not +1/-1,
-/// a coefficient or start_yaw_rad is not finite, or the total duration overflows.
+/// a coefficient or start_yaw_rad is not finite, or Trajectory::create() refuses the pieces (the
+/// limits kTrajMin/MaxPieceDuration_s, kTrajMaxTotalDuration_s, kTrajMaxReach in trajectory.hpp).
 TrajectoryMsgResult from_msg(const minco_trajectory_t& msg);
 
 }  // namespace porter

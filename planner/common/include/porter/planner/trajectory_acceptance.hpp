@@ -25,6 +25,10 @@ class TrajectoryAcceptance {
   virtual AcceptanceResult check(const Trajectory& trajectory) const = 0;
   /// A short name for logs and result files ("kernels").
   virtual std::string name() const = 0;
+  /// The least exact clearance an accepted trajectory keeps to every obstacle, m, when the test
+  /// states one (the back-end then aims its safety term at it); negative when it decides on its
+  /// own geometry instead (the kernel check's inflated voxels).
+  virtual double clearance_margin_m() const { return -1.0; }
 };
 
 }  // namespace porter::planner

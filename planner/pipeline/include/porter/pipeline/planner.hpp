@@ -69,6 +69,9 @@ struct SetupReport {
   double kernels_s = 0.0;  ///< kernel robot side (constructor)
   double backend_s = 0.0;  ///< per-link SDFs and the back-end's terms (0 until built)
   bool backend_ready = false;
+  /// The acceptance test's clearance margin the back-end's terms were built for, m (negative: the
+  /// kernel check's inflation).
+  double safety_margin_m = -1.0;
 };
 
 class Planner {
@@ -92,7 +95,8 @@ class Planner {
   void prepare_backend();
 
   /// Replaces the acceptance test (nullptr: back to the kernel trajectory check). Must outlive
-  /// the Planner's use of it.
+  /// the Planner's use of it. A test that states a clearance margin (e.g. ExactClearanceAcceptance)
+  /// also sets the back-end's safety margins (rebuilt on the next plan that needs them).
   void set_acceptance(std::shared_ptr<const planner::TrajectoryAcceptance> acceptance);
   const planner::TrajectoryAcceptance& acceptance() const { return *acceptance_; }
 

@@ -1,0 +1,15 @@
+#pragma once
+// Checks a PLY file's header before assimp reads it: assimp allocates what the header's element
+// counts ask for, so a 14-line file claiming 1e9 vertices drove it past 8 GB. Part of
+// porter::core_io (mesh_loader.cpp); not a public header.
+
+#include <string>
+
+namespace porter::detail {
+
+/// "" when the file is not PLY or its header is consistent with its size; otherwise why not
+/// (an unterminated header, an unknown format or type, counts the bytes after the header cannot
+/// hold, or counts above kMeshMaxVertices / kMeshMaxFaces).
+std::string check_ply_header(const std::string& path);
+
+}  // namespace porter::detail

@@ -1,0 +1,111 @@
+// Hostile mesh files: refused with the file and the reason before assimp allocates for them or
+// its post-processing indexes past a vertex array.
+
+#include <filesystem>
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "porter/core/load_error.hpp"
+#include "porter/core/mesh_loader.hpp"
+
+namespace porter {
+namespace {
+
+namespace fs = std::filesystem;
+
+class HostileMeshes : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("porter_hostile_mesh_" + std::to_string(std::random_device{}()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+
+  void expect_refused(const std::string& path, const std::string& reason,
+                      const Eigen::Vector3d& scale = Eigen::Vector3d::Ones()) {
+    try {
+      load_mesh(path, scale);
+      ADD_FAILURE() << "accepted " << path;
+    } catch (const LoadError& e) {
+      EXPECT_EQ(e.file(), path);
+      EXPECT_NE(e.reason().find(reason), std::string::npos) << e.what();
+    }
+  }
+
+  fs::path dir_;
+};
+
+// A tetrahedron; `face_index` replaces the last index of the last face.
+std::string tetra_ply(const std::string& face_index = "3", const std::string& vertex_count = "4") {
+  return "ply\nformat ascii 1.0\nelement vertex " + vertex_count +
+         "\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
+         "property list uchar int vertex_indices\nend_header\n"
+         "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 " + face_index + "\n";
+}
+
+TEST_F(HostileMeshes, AValidPlyLoads) {
+  const MeshPtr mesh = load_mesh(write("ok.ply", tetra_ply()));
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->triangles.size(), 4u);
+  EXPECT_TRUE(mesh->closed);
+}
+
+// The 14-line PLY whose face index is out of range segfaulted in load_mesh.
+TEST_F(HostileMeshes, FaceIndexOutOfRangeIsRefused) {
+  const std::string text = tetra_ply("7");
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 17);
+  expect_refused(write("bad_index.ply", text), "malformed mesh");
+}
+
+// A PLY header claiming 1e9 vertices drove assimp past 8 GB.
+TEST_F(HostileMeshes, PlyCountsAreCheckedAgainstTheFileBeforeAssimpReadsIt) {
+  expect_refused(write("huge.ply", tetra_ply("3", "1000000000")), "claims 1000000000 vertices (limit 6000000)");
+  expect_refused(write("short.ply", tetra_ply("3", "5000")), "which need at least");
+  expect_refused(write("neg.ply", tetra_ply("3", "-4")), "not a non-negative integer");
+  expect_refused(write("noend.ply", "ply\nformat ascii 1.0\nelement vertex 3\n"), "no end_header");
+  expect_refused(write("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n"),
+                 "unknown type");
+  std::string binary = "ply\nformat binary_little_endian 1.0\nelement vertex 100\nproperty float x\n"
+                       "property float y\nproperty float z\nend_header\n";
+  binary += std::string(12 * 99, '\0');  // one vertex short
+  expect_refused(write("binary.ply", binary), "need at least 1200 bytes");
+}
+
+TEST_F(HostileMeshes, DirectoriesAndHugeCoordinatesAreRefused) {
+  expect_refused(dir_.string(), "not a regular file");
+  expect_refused(write("far.ply", tetra_ply()), "beyond 10000 m", Eigen::Vector3d::Constant(1e9));
+  expect_refused(write("scale.ply", tetra_ply()), "scale", Eigen::Vector3d(1, -1, 1));
+}
+
+
+// Found by the fuzzer: a PLY whose importer declared polygons it did not have made assimp's
+// TriangulateProcess assert (abort). The input is kept in the fuzz corpus (after its mode byte).
+TEST_F(HostileMeshes, DeclaredPolygonsWithoutPolygonsDoNotAbort) {
+  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_triangulate_assert",
+                   std::ios::binary);
+  ASSERT_TRUE(in);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1u);
+  const std::string path = write("regression.ply", bytes.substr(1));
+  try {
+    const MeshPtr mesh = load_mesh(path);
+    ASSERT_TRUE(mesh);
+    EXPECT_FALSE(mesh->triangles.empty());
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.file(), path);
+  }
+}
+
+}  // namespace
+}  // namespace porter

@@ -1,0 +1,33 @@
+// Fuzz target: parse_scene on any text (a scratch directory holds the payload file the seeds
+// name). It must return a scene or throw LoadError naming the file; a scene it returns must
+// have finite bounds, a resolution within the limits, wrapped yaws, and voxelize within the
+// memory cap.
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <string>
+
+#include "fuzz_files.hpp"
+#include "porter/core/load_error.hpp"
+#include "porter/core/scene_loader.hpp"
+#include "porter/core/scene_voxelizer.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  static const std::string payload = porter::fuzz::scratch().write("payload.yaml", "name: dummy\n");
+  static const std::string label = porter::fuzz::scratch().path("scene.yaml");
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  porter::SceneLoadOptions options;
+  options.memory_cap_bytes = 64.0 * (1 << 20);  // keeps each run small; the check is the same
+  try {
+    const porter::Scene s = porter::parse_scene(text, label, options);
+    if (!s.bounds_W.min().allFinite() || !s.bounds_W.max().allFinite()) std::abort();
+    if (!(s.resolution_m >= porter::kSceneMinResolution_m && s.resolution_m <= porter::kSceneMaxResolution_m))
+      std::abort();
+    for (const double yaw : {s.start.base.yaw_rad, s.goal.base.yaw_rad})
+      if (!(std::abs(yaw) <= 3.14159265358979323846 + 1e-12)) std::abort();
+    if (s.obstacles.size() < 50) porter::voxelize(s);  // bounded: the cap holds the grid small
+  } catch (const porter::LoadError& e) {
+    if (e.file() != label) std::abort();
+  }
+  return 0;
+}
