@@ -1,6 +1,8 @@
 // porter-mapper: LIDAR_POINTS + ROBOT_STATE -> MAP_OCTOMAP (OctoMap binary), HEARTBEAT.
 //
-//   porter-mapper [--config config/mapping/porter_mapper.yaml]
+//   porter-mapper [--config config/mapping/porter_mapper.yaml] [--payload FILE|none]
+//
+// --payload replaces the config's payload (the self-filter must know what the gripper holds).
 //
 // Two threads: the main thread receives (LCM) and publishes the heartbeat; a worker integrates
 // clouds and publishes maps. Exit codes: 0 after SIGINT/SIGTERM, 1 when LCM cannot be opened,
@@ -43,12 +45,15 @@ struct Timing {  // per log period, touched by the worker only
 int main(int argc, char** argv) {
   rt::init_log("porter-mapper");
   std::string config_path = PORTER_DEFAULT_MAPPER_CONFIG;
+  std::string payload_override;  // --payload: the payload carried this run (self-filter), "none" = none
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--config" && i + 1 < argc) {
       config_path = argv[++i];
+    } else if (arg == "--payload" && i + 1 < argc) {
+      payload_override = argv[++i];
     } else {
-      rt::log_error("usage: porter-mapper [--config FILE]");
+      rt::log_error("usage: porter-mapper [--config FILE] [--payload FILE|none]");
       return 2;
     }
   }
@@ -57,6 +62,7 @@ int main(int argc, char** argv) {
   const double t_load = rt::mono_s();
   try {
     cfg = pm::app::load_mapper_config(config_path);
+    if (!payload_override.empty()) cfg.payload_yaml = payload_override == "none" ? "" : payload_override;
     robot = porter::load_robot_model(cfg.robot_yaml);
     if (!cfg.payload_yaml.empty()) robot = porter::attach_payload(robot, porter::load_payload(cfg.payload_yaml));
   } catch (const porter::LoadError& e) {

@@ -1,5 +1,6 @@
 #include "porter/validation/validator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -53,6 +54,49 @@ std::string pose_text(const PoseCheck& p) {
          fmt(p.joint_error_rad) + " rad";
 }
 
+// Exact clearance of the placed robot to every obstacle (and the ground) at time t, folded into
+// report.clearances (obstacles in order, then the ground) and report.collision. Pairs whose boxes
+// are farther apart than the obstacle's best so far are pruned. Returns whether t collides.
+template <typename NameOf>
+bool check_environment(FclWorld& world, const BodyPoses& poses, double t, const ValidationSettings& settings,
+                       const NameOf& name_of, ValidationReport& report) {
+  auto& robot = world.robot();
+  auto& obstacles = world.obstacles();
+  const size_t n_obs = obstacles.size();
+  const size_t ground = n_obs;
+  bool collided = false;
+  for (auto& s : robot) {
+    for (size_t j = 0; j < n_obs; ++j) {
+      ObstacleClearance& cl = report.clearances[j];
+      const double gap = aabb_gap(s.aabb_W, obstacles[j].aabb_W);
+      if (gap > 0.0 && gap >= cl.min_m) continue;
+      if (gap >= settings.clearance_horizon_m) {
+        // A lower bound only where nothing exact is known yet.
+        if (!cl.exact || !std::isfinite(cl.min_m)) cl = {cl.obstacle, gap, t, name_of(s.body), false};
+        continue;
+      }
+      const double d = FclWorld::signed_distance(s, obstacles[j]);
+      if (d < cl.min_m) cl = {cl.obstacle, d, t, name_of(s.body), true};
+      if (d < 0.0) {
+        collided = true;
+        if (!report.collision.found || (report.collision.t_s == t && -d > report.collision.depth_m))
+          report.collision = {true, t, name_of(s.body), s.name, obstacles[j].name, -d, report.collision.samples};
+      }
+    }
+    if (settings.check_ground && s.body != 0) {
+      const double z = world.lowest_z_W(s, poses);
+      ObstacleClearance& cl = report.clearances[ground];
+      if (z < cl.min_m) cl = {cl.obstacle, z, t, name_of(s.body), true};
+      if (z < 0.0) {
+        collided = true;
+        if (!report.collision.found || (report.collision.t_s == t && -z > report.collision.depth_m))
+          report.collision = {true, t, name_of(s.body), s.name, "ground", -z, report.collision.samples};
+      }
+    }
+  }
+  return collided;
+}
+
 }  // namespace
 
 ValidationReport validate_trajectory(const RobotModel& model, const Payload& payload, const Scene& scene,
@@ -65,10 +109,7 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
 
   FclWorld world(model, payload, scene);
   auto& robot = world.robot();
-  auto& obstacles = world.obstacles();
-  const size_t n_obs = obstacles.size();
-  const size_t ground = n_obs;  // index of the ground in the clearance list
-  for (const auto& o : obstacles) report.clearances.push_back({o.name, kInf, 0.0, "", true});
+  for (const auto& o : world.obstacles()) report.clearances.push_back({o.name, kInf, 0.0, "", true});
   if (settings.check_ground) report.clearances.push_back({"ground", kInf, 0.0, "", true});
 
   // Shape pairs checked for self-collision.
@@ -95,37 +136,7 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
     const BodyPoses poses = body_poses(model, config);
     world.place(poses);
 
-    // Environment: prune pairs whose boxes are farther apart than the obstacle's best so far.
-    bool collided = false;
-    for (auto& s : robot) {
-      for (size_t j = 0; j < n_obs; ++j) {
-        ObstacleClearance& cl = report.clearances[j];
-        const double gap = aabb_gap(s.aabb_W, obstacles[j].aabb_W);
-        if (gap > 0.0 && gap >= cl.min_m) continue;
-        if (gap >= settings.clearance_horizon_m) {
-          // A lower bound only where nothing exact is known yet.
-          if (!cl.exact || !std::isfinite(cl.min_m)) cl = {cl.obstacle, gap, t, name_of(s.body), false};
-          continue;
-        }
-        const double d = FclWorld::signed_distance(s, obstacles[j]);
-        if (d < cl.min_m) cl = {cl.obstacle, d, t, name_of(s.body), true};
-        if (d < 0.0) {
-          collided = true;
-          if (!report.collision.found || (report.collision.t_s == t && -d > report.collision.depth_m))
-            report.collision = {true, t, name_of(s.body), s.name, obstacles[j].name, -d, report.collision.samples};
-        }
-      }
-      if (settings.check_ground && s.body != 0) {
-        const double z = world.lowest_z_W(s, poses);
-        ObstacleClearance& cl = report.clearances[ground];
-        if (z < cl.min_m) cl = {cl.obstacle, z, t, name_of(s.body), true};
-        if (z < 0.0) {
-          collided = true;
-          if (!report.collision.found || (report.collision.t_s == t && -z > report.collision.depth_m))
-            report.collision = {true, t, name_of(s.body), s.name, "ground", -z, report.collision.samples};
-        }
-      }
-    }
+    const bool collided = check_environment(world, poses, t, settings, name_of, report);
     if (collided) ++report.collision.samples;
 
     // Self-collision.
@@ -191,6 +202,35 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
   if (report.max_step_m > 2.0 * settings.max_step_m)
     f.push_back("trajectory jumps: " + fmt(report.max_step_m) + " m between samples");
   report.valid = f.empty();
+  report.time_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
+  return report;
+}
+
+ValidationReport check_configurations(const RobotModel& model, const Payload& payload, const Scene& scene,
+                                      const std::vector<double>& times_s,
+                                      const std::vector<WholeBodyConfig>& configs,
+                                      const ValidationSettings& settings) {
+  const auto wall0 = std::chrono::steady_clock::now();
+  ValidationReport report;
+  const size_t n = std::min(times_s.size(), configs.size());
+  report.samples = static_cast<int>(n);
+  report.duration_s = n ? times_s[n - 1] - times_s[0] : 0.0;
+  FclWorld world(model, payload, scene);
+  for (const auto& o : world.obstacles()) report.clearances.push_back({o.name, kInf, 0.0, "", true});
+  if (settings.check_ground) report.clearances.push_back({"ground", kInf, 0.0, "", true});
+  const std::string payload_name = payload.name;
+  auto name_of = [&](int body) { return body_name(model, payload_name, body); };
+  for (size_t i = 0; i < n; ++i) {
+    const BodyPoses poses = body_poses(model, configs[i]);
+    world.place(poses);
+    if (check_environment(world, poses, times_s[i], settings, name_of, report)) ++report.collision.samples;
+  }
+  if (report.collision.found)
+    report.failures.push_back("collision at t=" + fmt(report.collision.t_s) + " s: " + report.collision.body +
+                              " with " + report.collision.obstacle + ", depth " +
+                              fmt(report.collision.depth_m * 1000.0, 1) + " mm");
+  report.valid = report.failures.empty();
   report.time_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - wall0).count();
   return report;

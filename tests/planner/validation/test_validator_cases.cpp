@@ -93,6 +93,45 @@ TEST(ValidatorCases, ClearanceToAWallBesideThePathIsMeasuredToAMillimetre) {
   for (const auto& l : r.limits) EXPECT_TRUE(l.kept) << l.quantity;
 }
 
+// Recorded configurations (e.g. the simulator's ground truth) are judged like trajectory samples:
+// beside a wall the clearance is the gap; shifted into the wall they collide, at the first
+// configuration inside it.
+TEST(ValidatorCases, RecordedConfigurationsGetTheTrajectoryChecksClearanceAndCollision) {
+  const Extent e = carry_extent();
+  const double gap = 0.123;
+  const double face_y = e.box.max().y() + gap;
+  const Scene scene = test::line_scene(-3, 3, {test::box_obstacle("side", {-10, face_y, 0}, {10, face_y + 0.3, 3})});
+  std::vector<double> times;
+  std::vector<WholeBodyConfig> configs;
+  for (int i = 0; i <= 20; ++i) {
+    WholeBodyConfig c;
+    c.x_m = -2.0 + 0.2 * i;
+    c.q_rad = carry_arm();
+    times.push_back(0.1 * i);
+    configs.push_back(c);
+  }
+  const ValidationReport beside = check_configurations(test::robot(), test::t_bar(), scene, times, configs);
+  EXPECT_TRUE(beside.valid);
+  EXPECT_FALSE(beside.collision.found);
+  EXPECT_EQ(beside.samples, 21);
+  ASSERT_EQ(beside.clearances.size(), 2u);
+  EXPECT_NEAR(beside.clearances[0].min_m, gap, 1e-3);
+  EXPECT_NEAR(beside.clearances[1].min_m, e.lowest_z_arm, 1e-9);
+
+  // From the 11th configuration on the robot stands 0.2 m into the wall.
+  for (size_t i = 10; i < configs.size(); ++i) configs[i].y_m = gap + 0.2;
+  const ValidationReport into = check_configurations(test::robot(), test::t_bar(), scene, times, configs);
+  EXPECT_FALSE(into.valid);
+  ASSERT_TRUE(into.collision.found);
+  EXPECT_EQ(into.collision.obstacle, "side");
+  EXPECT_DOUBLE_EQ(into.collision.t_s, 1.0);
+  EXPECT_EQ(into.collision.samples, 11);
+  // The robot's farthest point is 0.2 m inside; FCL's depth of the first colliding shape is at most that.
+  EXPECT_GT(into.collision.depth_m, 0.1);
+  EXPECT_LE(into.collision.depth_m, 0.2 + 1e-3);
+  EXPECT_LT(into.clearances[0].min_m, 0.0);
+}
+
 TEST(ValidatorCases, JointPositionBreachReportsItsWorstRatio) {
   Eigen::Matrix<double, 6, 1> q = carry_arm();
   q[0] = 2.8;  // joint1's range is +-2.6179 rad

@@ -115,6 +115,16 @@ ValidationReport validate_trajectory(const RobotModel& model, const Payload& pay
                                      const Scene& scene, const FlatTrajectory& trajectory,
                                      const ValidationSettings& settings = {});
 
+/// Obstacle and ground clearance of recorded whole-body configurations (e.g. the simulator's
+/// ground truth of an executed run), exactly as validate_trajectory checks each of its samples:
+/// fills samples, duration_s, clearances, collision, failures, valid and time_ms only (no limits,
+/// poses or self-collision: recorded states have no derivatives to check). times_s labels each
+/// configuration in the report; the shorter of the two vectors is used.
+ValidationReport check_configurations(const RobotModel& model, const Payload& payload, const Scene& scene,
+                                      const std::vector<double>& times_s,
+                                      const std::vector<WholeBodyConfig>& configs,
+                                      const ValidationSettings& settings = {});
+
 /// Sample times used by validate_trajectory (exposed for tests): sorted, first 0, last the
 /// duration; *max_step_m receives the largest displacement bound between neighbours.
 std::vector<double> sample_times(const RobotModel& model, const Payload& payload,

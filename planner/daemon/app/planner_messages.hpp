@@ -1,0 +1,74 @@
+#pragma once
+// porter-planner's adapter between LCM messages and the daemon's types: PLAN_GOAL, ROBOT_STATE
+// and MAP_OCTOMAP in (validated: they come from the network), PLANNER_STATUS and TRAJECTORY out.
+//
+// Thread-safety: reentrant. Failure: the conversions never throw; they return the value or a
+// reason naming the field.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "planner_config.hpp"
+#include "porter/core/occupancy_grid.hpp"
+#include "porter/minco_trajectory_t.hpp"
+#include "porter/octomap_t.hpp"
+#include "porter/plan_goal_t.hpp"
+#include "porter/planner_daemon/session.hpp"
+#include "porter/planner_status_t.hpp"
+#include "porter/robot_state_t.hpp"
+
+namespace octomap {
+class OcTree;
+}
+
+namespace porter::planner_app {
+
+inline constexpr const char* kProcessName = "porter-planner";
+
+struct GoalConversion {
+  std::optional<planner_daemon::Goal> goal;
+  std::string payload_id;  ///< the message's payload_id ("" = keep the current payload)
+  std::string error;
+};
+/// Checks frame_id, finiteness, the arm's joint count (has_arm) and the tolerances (<= 0: the
+/// planner's defaults).
+GoalConversion to_goal(const plan_goal_t& msg, const std::string& frame_id);
+
+struct StateConversion {
+  std::optional<planner_daemon::MeasuredState> state;
+  std::string error;
+};
+/// Checks frame_id, array lengths and finiteness; valid = pose_valid && arm_valid && 6 joints.
+/// utime = receive_utime (staleness on the planner's clock).
+StateConversion to_measured_state(const robot_state_t& msg, const std::string& frame_id, std::int64_t receive_utime);
+
+struct TreeConversion {
+  std::shared_ptr<const octomap::OcTree> tree;
+  std::string error;
+};
+/// Decodes the OctoMap stream of a MAP_OCTOMAP message: frame, resolution (must equal
+/// `params.resolution_m`), tree type "OcTree", num_bytes, size limit, then the stream itself.
+TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id, const MapParams& params);
+
+struct GridConversion {
+  std::optional<OccupancyGrid> grid;
+  std::string error;
+};
+/// The planning grid of a tree: its bounding box, grown to hold every point of `keep_W` (robot,
+/// goal) with params.margin_m, from z = 0 to at least min_height_m, rounded outwards to
+/// block_m; refused when it needs more than max_voxels.
+GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params);
+
+/// PLANNER_STATUS for a report.
+planner_status_t make_status(const planner_daemon::Report& report, std::int64_t utime);
+
+/// TRAJECTORY for a publication (utime = publish time).
+minco_trajectory_t make_trajectory(const planner_daemon::Publication& p, const std::string& frame_id,
+                                   const std::string& payload_id, std::int64_t utime);
+
+}  // namespace porter::planner_app
