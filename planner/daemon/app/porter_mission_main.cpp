@@ -140,7 +140,9 @@ int main(int argc, char** argv) {
     bus.handle_timeout(50);
   if (!have_state || maps == 0 || !planner_idle) {
     rt::log_error(std::string("no ") +
-                  (!have_state ? "valid ROBOT_STATE" : maps == 0 ? "MAP_OCTOMAP" : "idle porter-planner HEARTBEAT") +
+                  (!have_state ? "valid " + std::string(porter::channels::kRobotState.name())
+                   : maps == 0 ? std::string(porter::channels::kMapOctomap.name())
+                               : "idle porter-planner " + std::string(porter::channels::kHeartbeat.name())) +
                   " within 60 s");
     return 1;
   }

@@ -258,20 +258,10 @@ double MidendProblem::boundary_heading(int s, bool at_start, CostBreakdown* brea
   const double gate = q / n2;
   const double cosine = u.dot(j) / n;
   const double w = settings_.weight_boundary_heading;
-  // h = sqrt(chord^2 + delta^2) - delta with chord^2 = 2 (1 - cos) ~ angle^2: about w |angle| away
-  // from alignment, so the pull towards the node's heading does not fade as the angle shrinks
-  // (w (1 - cos) ~ w angle^2 / 2 did, and the time term then held the heading 0.06 rad off).
-  // delta rounds the kink: the optimum sits within a small multiple of delta of the heading, well
-  // inside the 0.02 rad a goal pose is asked to be reached within.
-  constexpr double kDelta = 2e-3;
-  const double chord2 = std::max(0.0, 2.0 * (1.0 - cosine));
-  const double root = std::sqrt(chord2 + kDelta * kDelta);
-  const double h = root - kDelta;
-  const double dh_dcos = -1.0 / root;
-  const double cost = w * gate * h;
+  const double cost = w * gate * (1.0 - cosine);
   const Eigen::Vector2d dgate = (2.0 * eps2 / (n2 * n2)) * j;
   const Eigen::Vector2d dcos = u / n - (u.dot(j) / (n2 * n)) * j;
-  const Eigen::Vector2d dj = w * (dgate * h + gate * dh_dcos * dcos);
+  const Eigen::Vector2d dj = w * (dgate * (1.0 - cosine) - gate * dcos);
   auto gc = grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i);
   gc.leftCols<2>().noalias() += b3 * dj.transpose();
   if (!at_start) {

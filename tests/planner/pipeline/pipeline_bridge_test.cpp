@@ -26,14 +26,12 @@ struct Recorded {
 // --frontend-budget-ms 20000 --midend-budget-ms 20000 --backend-budget-ms 120000
 // --backend-iterations 200, before the pipeline library: every run below had front-end success,
 // mid-end converged, a back-end (when it ran) converged and a final trajectory the kernel check
-// accepted (exit 0). The warm starts of h_b 1.1 seeds 4 and 6 are those since the rest-boundary
-// heading term pins the start and goal headings (|angle| instead of 1 - cos): the two mid-end
-// solves' J_s changed order there; every status stayed.
+// accepted (exit 0).
 const Recorded kRecorded[] = {
     {1.1, 2, "", true, -1},
     {1.1, 17, "self-collision (links 1-4)", true, -1},
-    {1.1, 4, "in collision (link 7)", false, 0},
-    {1.1, 6, "in collision (link 7)", false, 1},
+    {1.1, 4, "in collision (link 7)", false, 1},
+    {1.1, 6, "in collision (link 7)", false, 0},
     {1.0, 5, "in collision (link 7)", true, -1},
     {0.8, 1, "self-collision (links 1-7)", true, -1},
     {0.8, 12, "in collision (link 7)", false, 0},
