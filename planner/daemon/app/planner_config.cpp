@@ -38,7 +38,7 @@ PlannerConfig load_planner_config(const std::string& path) {
   const auto map = cfg.get("map");
   map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb"});
   out.map.resolution_m = map.get("resolution_m").as_positive();
-  out.session.max_map_age_s = map.get("max_age_s").as_positive();
+  out.loop.max_map_age_s = map.get("max_age_s").as_positive();
   out.map.margin_m = map.get("margin_m").as_nonnegative();
   out.map.block_m = map.get("block_m").as_positive();
   out.map.min_height_m = map.get("min_height_m").as_positive();
@@ -49,24 +49,24 @@ PlannerConfig load_planner_config(const std::string& path) {
 
   const auto state = cfg.get("state");
   state.expect_keys({"max_age_s"});
-  out.session.max_state_age_s = state.get("max_age_s").as_positive();
+  out.loop.max_state_age_s = state.get("max_age_s").as_positive();
 
   const auto replan = cfg.get("replan");
   replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed"});
-  out.session.handoff.lead_s = replan.get("lead_s").as_positive();
-  out.session.handoff.latency_s = replan.get("latency_s").as_positive();
-  out.session.collision_step_s = replan.get("collision_step_s").as_positive();
-  out.session.max_attempts = replan.get("max_attempts").as_int();
-  if (out.session.max_attempts < 1) replan.get("max_attempts").fail("must be >= 1");
+  out.loop.handoff.lead_s = replan.get("lead_s").as_positive();
+  out.loop.handoff.latency_s = replan.get("latency_s").as_positive();
+  out.loop.collision_step_s = replan.get("collision_step_s").as_positive();
+  out.loop.max_attempts = replan.get("max_attempts").as_int();
+  if (out.loop.max_attempts < 1) replan.get("max_attempts").fail("must be >= 1");
   const int seed = replan.get("seed").as_int();
   if (seed < 0) replan.get("seed").fail("must be >= 0");
-  out.session.seed = static_cast<std::uint64_t>(seed);
+  out.loop.seed = static_cast<std::uint64_t>(seed);
 
   const auto braking = cfg.get("braking");
   braking.expect_keys({"base_decel_mps2", "joint_decel_radps2", "min_duration_s"});
-  out.session.handoff.braking.base_decel_mps2 = braking.get("base_decel_mps2").as_positive();
-  out.session.handoff.braking.joint_decel_radps2 = braking.get("joint_decel_radps2").as_positive();
-  out.session.handoff.braking.min_duration_s = braking.get("min_duration_s").as_positive();
+  out.loop.handoff.braking.base_decel_mps2 = braking.get("base_decel_mps2").as_positive();
+  out.loop.handoff.braking.joint_decel_radps2 = braking.get("joint_decel_radps2").as_positive();
+  out.loop.handoff.braking.min_duration_s = braking.get("min_duration_s").as_positive();
 
   out.tick_hz = cfg.get("tick_hz").as_positive();
   if (out.tick_hz > 100.0) cfg.get("tick_hz").fail("must be in (0, 100]");
@@ -74,12 +74,12 @@ PlannerConfig load_planner_config(const std::string& path) {
   out.settings = pipeline::load_planner_settings(out.settings_dir);
   out.settings.kernels.kernels.resolution_m = out.map.resolution_m;
   const double worst = worst_case_plan_s(out.settings);
-  if (out.session.handoff.lead_s <= worst + out.session.handoff.latency_s) {
+  if (out.loop.handoff.lead_s <= worst + out.loop.handoff.latency_s) {
     replan.get("lead_s").fail("must exceed the pipeline's longest plan (" + std::to_string(worst) +
                               " s, from " + out.settings_dir + ") plus latency_s");
   }
   try {
-    out.session.validate();
+    out.loop.validate();
   } catch (const std::invalid_argument& e) {
     throw LoadError(path, "", e.what());
   }

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "porter/pipeline/planner_settings.hpp"
-#include "porter/planner_daemon/session.hpp"
+#include "porter/planner_daemon/goal_loop.hpp"
 
 namespace porter::planner_app {
 
@@ -32,7 +32,7 @@ struct PlannerConfig {
   std::map<std::string, std::string> payloads;  ///< payload_id -> payload YAML
   pipeline::PlannerSettings settings;     ///< loaded from settings_dir, resolution from map
   MapParams map;
-  planner_daemon::SessionParams session;
+  planner_daemon::GoalLoopParams loop;
   double tick_hz = 10.0;                  ///< the worker's periodic check, Hz
 };
 

@@ -190,9 +190,9 @@ planner_status_t make_status(const planner_daemon::Report& r, std::int64_t utime
   m.state = static_cast<std::int8_t>(r.state);
   // The message keeps the cause for the states that need one (FAILED, NO_MAP, NO_STATE,
   // REPLANNING); a success's note goes only to the log.
-  const bool cause = r.state == planner_daemon::SessionState::kFailed || r.state == planner_daemon::SessionState::kNoMap ||
-                     r.state == planner_daemon::SessionState::kNoState ||
-                     r.state == planner_daemon::SessionState::kReplanning;
+  const bool cause = r.state == planner_daemon::GoalLoopState::kFailed || r.state == planner_daemon::GoalLoopState::kNoMap ||
+                     r.state == planner_daemon::GoalLoopState::kNoState ||
+                     r.state == planner_daemon::GoalLoopState::kReplanning;
   m.failure_reason = cause ? r.reason : "";
   m.num_stages = static_cast<std::int32_t>(r.stages.size());
   for (const auto& s : r.stages) {

@@ -18,7 +18,7 @@
 #include "porter/minco_trajectory_t.hpp"
 #include "porter/octomap_t.hpp"
 #include "porter/plan_goal_t.hpp"
-#include "porter/planner_daemon/session.hpp"
+#include "porter/planner_daemon/goal_loop.hpp"
 #include "porter/planner_status_t.hpp"
 #include "porter/robot_state_t.hpp"
 

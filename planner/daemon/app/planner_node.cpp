@@ -15,7 +15,7 @@
 namespace porter::planner_app {
 
 namespace rt = porter::runtime;
-using planner_daemon::SessionState;
+using planner_daemon::GoalLoopState;
 
 std::unique_ptr<pipeline::Planner> make_planner(const PlannerConfig& config, const std::string& payload_id) {
   const RobotModel bare = load_robot_model(config.robot_file);
@@ -26,10 +26,10 @@ std::unique_ptr<pipeline::Planner> make_planner(const PlannerConfig& config, con
 
 PlannerNode::PlannerNode(LcmBus& bus, PlannerConfig config, std::function<std::int64_t()> clock)
     : bus_(bus), config_(std::move(config)), clock_(std::move(clock)) {
-  planner_daemon::SessionParams params = config_.session;
+  planner_daemon::GoalLoopParams params = config_.loop;
   params.cancel = &cancel_;
   const double t0 = rt::mono_s();
-  session_ = std::make_unique<planner_daemon::Session>(make_planner(config_, config_.payload_id), params, clock_);
+  loop_ = std::make_unique<planner_daemon::GoalLoop>(make_planner(config_, config_.payload_id), params, clock_);
   payload_id_ = config_.payload_id;
   rt::log_info("planner built for payload " + payload_id_ + " in " + rt::format_ms(rt::mono_s() - t0));
 
@@ -57,7 +57,7 @@ PlannerNode::PlannerNode(LcmBus& bus, PlannerConfig config, std::function<std::i
         ++stats_.goals_refused;
       }
       rt::log_warn("goal " + std::to_string(msg.goal_id) + " refused: " + c.error);
-      return status(SessionState::kFailed, msg.goal_id, "goal refused: " + c.error);
+      return status(GoalLoopState::kFailed, msg.goal_id, "goal refused: " + c.error);
     }
     std::lock_guard<std::mutex> lock(mutex_);
     ++stats_.goals_received;
@@ -69,7 +69,7 @@ PlannerNode::PlannerNode(LcmBus& bus, PlannerConfig config, std::function<std::i
     const std::string id = msg.attached ? msg.payload_id : "none";
     if (id != "none" && config_.payloads.count(id) == 0) {
       rt::log_warn("PAYLOAD '" + id + "' refused: not a configured payload (inline meshes are not planned with)");
-      return status(SessionState::kFailed, -1, "payload '" + id + "' is not configured");
+      return status(GoalLoopState::kFailed, -1, "payload '" + id + "' is not configured");
     }
     std::lock_guard<std::mutex> lock(mutex_);
     payload_request_ = id;
@@ -103,7 +103,7 @@ bool PlannerNode::idle() const {
   return !busy_ && !map_msg_ && !goal_ && !payload_request_;
 }
 
-void PlannerNode::status(SessionState state, std::int64_t goal_id, const std::string& reason) {
+void PlannerNode::status(GoalLoopState state, std::int64_t goal_id, const std::string& reason) {
   planner_daemon::Report r;
   r.state = state;
   r.goal_id = goal_id;
@@ -134,10 +134,10 @@ void PlannerNode::set_payload(const std::string& id) {
   if (id == payload_id_) return;
   const double t0 = rt::mono_s();
   try {
-    session_->replace_planner(make_planner(config_, id));
+    loop_->replace_planner(make_planner(config_, id));
   } catch (const std::exception& e) {
     rt::log_error("payload " + id + ": planner not built: " + e.what());
-    return status(SessionState::kFailed, -1, "payload " + id + ": " + e.what());
+    return status(GoalLoopState::kFailed, -1, "payload " + id + ": " + e.what());
   }
   payload_id_ = id;
   rt::log_info("planner rebuilt for payload " + id + " in " + rt::format_ms(rt::mono_s() - t0));
@@ -160,7 +160,7 @@ bool PlannerNode::regrid(const std::optional<planner_daemon::Goal>& goal) {
   GridConversion g = to_grid(*tree_, keep, config_.map);
   if (!g.grid) {
     rt::log_warn("map refused: " + g.error);
-    status(SessionState::kFailed, goal ? goal->goal_id : -1, "map refused: " + g.error);
+    status(GoalLoopState::kFailed, goal ? goal->goal_id : -1, "map refused: " + g.error);
     return false;
   }
   const double convert_s = rt::mono_s() - t0;
@@ -168,7 +168,7 @@ bool PlannerNode::regrid(const std::optional<planner_daemon::Goal>& goal) {
   const auto dims = g.grid->dims();
   rt::log_info("map " + std::to_string(dims.x()) + "x" + std::to_string(dims.y()) + "x" + std::to_string(dims.z()) +
                " voxels from " + std::to_string(tree_->size()) + " tree nodes in " + rt::format_ms(convert_s));
-  emit(session_->on_map(*g.grid, tree_utime_));
+  emit(loop_->on_map(*g.grid, tree_utime_));
   return true;
 }
 
@@ -198,7 +198,7 @@ void PlannerNode::run() {
       if (goal->payload_id == "none" || config_.payloads.count(goal->payload_id) > 0) {
         set_payload(goal->payload_id);
       } else {
-        status(SessionState::kFailed, goal->goal->goal_id, "payload '" + goal->payload_id + "' is not configured");
+        status(GoalLoopState::kFailed, goal->goal->goal_id, "payload '" + goal->payload_id + "' is not configured");
         goal.reset();
       }
     }
@@ -211,7 +211,7 @@ void PlannerNode::run() {
           ++stats_.maps_refused;
         }
         rt::log_warn("map " + std::to_string(map->map_id) + " refused: " + t.error);
-        status(SessionState::kFailed, -1, "map refused: " + t.error);
+        status(GoalLoopState::kFailed, -1, "map refused: " + t.error);
       } else {
         tree_ = t.tree;
         tree_utime_ = map->utime;
@@ -228,9 +228,9 @@ void PlannerNode::run() {
                           grid_bounds_->min().y() <= g.y_m - config_.map.margin_m &&
                           grid_bounds_->max().y() >= g.y_m + config_.map.margin_m;
       if (!inside && !map) regrid(goal->goal);
-      emit(session_->on_goal(*goal->goal, latest_state()));
+      emit(loop_->on_goal(*goal->goal, latest_state()));
     }
-    emit(session_->on_tick(latest_state()));
+    emit(loop_->on_tick(latest_state()));
     std::lock_guard<std::mutex> lock(mutex_);
     busy_ = false;
   }

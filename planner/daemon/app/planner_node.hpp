@@ -1,6 +1,6 @@
 #pragma once
 // porter-planner's node: the LCM subscriptions and the planning worker thread around a
-// planner_daemon::Session. The handling thread (the one that calls LcmBus::handle*) only
+// planner_daemon::GoalLoop. The handling thread (the one that calls LcmBus::handle*) only
 // converts messages and puts them in a mailbox; the worker takes them, decodes maps, plans and
 // publishes, so LCM handling never waits for a plan. A new goal or a shutdown cancels the plan
 // that is running.
@@ -32,7 +32,7 @@
 #include "planner_messages.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/planner/deadline.hpp"
-#include "porter/planner_daemon/session.hpp"
+#include "porter/planner_daemon/goal_loop.hpp"
 
 namespace porter::planner_app {
 
@@ -45,7 +45,7 @@ struct NodeStats {
   std::uint64_t maps_dropped = 0;    ///< replaced in the mailbox by a newer one before the worker took it
   std::uint64_t maps_refused = 0;    ///< undecodable, wrong frame or resolution, too large
   std::uint64_t goals_received = 0;
-  std::uint64_t goals_refused = 0;   ///< malformed (the session's refusals are in its reports)
+  std::uint64_t goals_refused = 0;   ///< malformed (the loop's refusals are in its reports)
   std::uint64_t states_refused = 0;
   std::uint64_t trajectories = 0;    ///< published
   std::uint64_t statuses = 0;        ///< published
@@ -70,7 +70,7 @@ class PlannerNode {
  private:
   void run();
   void emit(const planner_daemon::Outcome& outcome);
-  void status(planner_daemon::SessionState state, std::int64_t goal_id, const std::string& reason);
+  void status(planner_daemon::GoalLoopState state, std::int64_t goal_id, const std::string& reason);
   void set_payload(const std::string& payload_id);
   bool regrid(const std::optional<planner_daemon::Goal>& goal);
   std::optional<planner_daemon::MeasuredState> latest_state() const;
@@ -79,7 +79,7 @@ class PlannerNode {
   const PlannerConfig config_;
   std::function<std::int64_t()> clock_;
   planner::CancelFlag cancel_;
-  std::unique_ptr<planner_daemon::Session> session_;
+  std::unique_ptr<planner_daemon::GoalLoop> loop_;
   std::string payload_id_;
 
   mutable std::mutex mutex_;

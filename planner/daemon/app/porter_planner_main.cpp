@@ -67,7 +67,7 @@ int main(int argc, char** argv) {
   }
   rt::log_info("config " + config.file + " (robot " + config.robot_file + ", settings " + config.settings_dir +
                "), map resolution " + std::to_string(config.map.resolution_m) + " m, hand-off lead " +
-               rt::format_ms(config.session.handoff.lead_s));
+               rt::format_ms(config.loop.handoff.lead_s));
   std::unique_ptr<porter::planner_app::PlannerNode> node;
   try {
     node = std::make_unique<porter::planner_app::PlannerNode>(bus, config, rt::wall_utime);

@@ -60,7 +60,7 @@ TEST(PlannerConfig, ShippedFileLoads) {
   EXPECT_EQ(c.payload_id, "t_bar");
   EXPECT_EQ(c.payloads.size(), 3u);
   EXPECT_DOUBLE_EQ(c.settings.kernels.kernels.resolution_m, c.map.resolution_m);
-  EXPECT_GT(c.session.handoff.lead_s, worst_case_plan_s(c.settings));
+  EXPECT_GT(c.loop.handoff.lead_s, worst_case_plan_s(c.settings));
 }
 
 TEST(PlannerConfig, StrictAboutKeysAndRanges) {

@@ -1,9 +1,9 @@
 #pragma once
-// What porter-planner does with its inputs, without LCM or threads: one Session owns the
+// What porter-planner does with its inputs, without LCM or threads: one GoalLoop owns the
 // Planner (built once per robot + payload), the latest map, the goal being served and the
 // trajectory last published, and answers each event with what to publish.
 //
-//   Session s(std::move(planner), params, wall_clock);
+//   GoalLoop s(std::move(planner), params, wall_clock);
 //   Outcome o = s.on_goal(goal, state, now);         // plan from the state (or a hand-off)
 //   o = s.on_map(grid, map_utime, now);              // new map: check the rest, re-plan or brake
 //   o = s.on_tick(state, now);                       // arrival, retries after a brake
@@ -26,9 +26,9 @@
 //   - A goal in collision, an invalid start and every other pipeline failure are reported with
 //     the pipeline's message.
 // Times: *_utime are µs on the messages' clock; `clock` returns that clock's now (plans take
-// real time, so the session reads it after each plan).
+// real time, so the loop reads it after each plan).
 // Thread-safety: not thread-safe; one thread calls every member. A CancelFlag given in
-// SessionParams may be set from another thread to end a running plan.
+// GoalLoopParams may be set from another thread to end a running plan.
 
 #include <cstdint>
 #include <functional>
@@ -44,7 +44,7 @@
 
 namespace porter::planner_daemon {
 
-struct SessionParams {
+struct GoalLoopParams {
   double max_map_age_s = 2.0;     ///< refuse to plan on an older map, s (> 0)
   double max_state_age_s = 0.5;   ///< refuse to plan from an older ROBOT_STATE, s (> 0)
   HandoffParams handoff;          ///< lead (>= the pipeline's worst-case plan time), latency, braking
@@ -58,10 +58,10 @@ struct SessionParams {
 };
 
 /// PLANNER_STATUS states (planner_status_t.STATE_*).
-enum class SessionState : std::int8_t {
+enum class GoalLoopState : std::int8_t {
   kIdle = 0, kPlanning = 1, kSucceeded = 2, kFailed = 3, kReplanning = 4, kNoMap = 5, kNoState = 6,
 };
-const char* to_string(SessionState s);
+const char* to_string(GoalLoopState s);
 
 /// The measured state the planner starts from.
 struct MeasuredState {
@@ -84,7 +84,7 @@ struct StageTiming {
 
 /// One PLANNER_STATUS.
 struct Report {
-  SessionState state = SessionState::kIdle;
+  GoalLoopState state = GoalLoopState::kIdle;
   std::int64_t goal_id = -1;
   std::int64_t plan_id = -1;
   std::string reason;   ///< failure or refusal cause; for successes a note (re-plan, brake)
@@ -108,7 +108,7 @@ struct Outcome {
 };
 
 /// Counters for logs and tests.
-struct SessionStats {
+struct GoalLoopStats {
   int plans = 0;
   int replans = 0;          ///< plans started because of a collision ahead
   int brakes = 0;
@@ -117,10 +117,10 @@ struct SessionStats {
   int blocked_checks = 0;   ///< maps on which the rest of the trajectory collided
 };
 
-class Session {
+class GoalLoop {
  public:
   /// Throws std::invalid_argument when params are invalid or planner is null.
-  Session(std::unique_ptr<pipeline::Planner> planner, SessionParams params,
+  GoalLoop(std::unique_ptr<pipeline::Planner> planner, GoalLoopParams params,
           std::function<std::int64_t()> clock);
 
   /// Adopts a map (stamped map_utime). A map the planner refuses is reported (kFailed, the
@@ -137,8 +137,8 @@ class Session {
   const pipeline::Planner& planner() const { return *planner_; }
   bool has_goal() const { return goal_.has_value(); }
   const std::optional<Publication>& active() const { return active_; }
-  const SessionStats& stats() const { return stats_; }
-  SessionState state() const { return state_; }
+  const GoalLoopStats& stats() const { return stats_; }
+  GoalLoopState state() const { return state_; }
 
  private:
   struct Attempt {
@@ -152,10 +152,10 @@ class Session {
   std::string state_problem(const std::optional<MeasuredState>& state, std::int64_t now) const;
   double active_time_s(std::int64_t now_utime) const;
   bool active_executing(std::int64_t now_utime) const;
-  Report report(SessionState state, std::string reason) const;
+  Report report(GoalLoopState state, std::string reason) const;
 
   std::unique_ptr<pipeline::Planner> planner_;
-  SessionParams params_;
+  GoalLoopParams params_;
   std::function<std::int64_t()> clock_;
   std::optional<OccupancyGrid> map_W_;
   std::int64_t map_utime_ = 0;
@@ -163,8 +163,8 @@ class Session {
   int attempts_ = 0;
   std::optional<Publication> active_;
   std::int64_t next_plan_id_ = 1;
-  SessionState state_ = SessionState::kIdle;
-  SessionStats stats_;
+  GoalLoopState state_ = GoalLoopState::kIdle;
+  GoalLoopStats stats_;
 };
 
 }  // namespace porter::planner_daemon

@@ -1,4 +1,4 @@
-#include "porter/planner_daemon/session.hpp"
+#include "porter/planner_daemon/goal_loop.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -34,7 +34,7 @@ std::vector<StageTiming> stage_timings(const pipeline::PlanResult& r) {
 
 }  // namespace
 
-void SessionParams::validate() const {
+void GoalLoopParams::validate() const {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(name) + " must be > 0");
   };
@@ -50,33 +50,33 @@ void SessionParams::validate() const {
   if (max_attempts < 1) throw std::invalid_argument("max_attempts must be >= 1");
 }
 
-const char* to_string(SessionState s) {
+const char* to_string(GoalLoopState s) {
   switch (s) {
-    case SessionState::kIdle: return "IDLE";
-    case SessionState::kPlanning: return "PLANNING";
-    case SessionState::kSucceeded: return "SUCCEEDED";
-    case SessionState::kFailed: return "FAILED";
-    case SessionState::kReplanning: return "REPLANNING";
-    case SessionState::kNoMap: return "NO_MAP";
-    case SessionState::kNoState: return "NO_STATE";
+    case GoalLoopState::kIdle: return "IDLE";
+    case GoalLoopState::kPlanning: return "PLANNING";
+    case GoalLoopState::kSucceeded: return "SUCCEEDED";
+    case GoalLoopState::kFailed: return "FAILED";
+    case GoalLoopState::kReplanning: return "REPLANNING";
+    case GoalLoopState::kNoMap: return "NO_MAP";
+    case GoalLoopState::kNoState: return "NO_STATE";
   }
   return "?";
 }
 
-Session::Session(std::unique_ptr<pipeline::Planner> planner, SessionParams params, std::function<std::int64_t()> clock)
+GoalLoop::GoalLoop(std::unique_ptr<pipeline::Planner> planner, GoalLoopParams params, std::function<std::int64_t()> clock)
     : planner_(std::move(planner)), params_(params), clock_(std::move(clock)) {
-  if (!planner_) throw std::invalid_argument("Session: no planner");
-  if (!clock_) throw std::invalid_argument("Session: no clock");
+  if (!planner_) throw std::invalid_argument("GoalLoop: no planner");
+  if (!clock_) throw std::invalid_argument("GoalLoop: no clock");
   params_.validate();
 }
 
-void Session::replace_planner(std::unique_ptr<pipeline::Planner> planner) {
+void GoalLoop::replace_planner(std::unique_ptr<pipeline::Planner> planner) {
   if (!planner) return;
   planner_ = std::move(planner);
   if (map_W_) planner_->set_map(*map_W_);
 }
 
-Report Session::report(SessionState state, std::string reason) const {
+Report GoalLoop::report(GoalLoopState state, std::string reason) const {
   Report r;
   r.state = state;
   r.goal_id = goal_ ? goal_->goal_id : -1;
@@ -85,15 +85,15 @@ Report Session::report(SessionState state, std::string reason) const {
   return r;
 }
 
-double Session::active_time_s(std::int64_t now_utime) const {
+double GoalLoop::active_time_s(std::int64_t now_utime) const {
   return active_ ? static_cast<double>(now_utime - active_->start_utime) * 1e-6 : 0.0;
 }
 
-bool Session::active_executing(std::int64_t now_utime) const {
+bool GoalLoop::active_executing(std::int64_t now_utime) const {
   return active_ && active_time_s(now_utime) < active_->trajectory.total_duration_s();
 }
 
-std::string Session::state_problem(const std::optional<MeasuredState>& state, std::int64_t now) const {
+std::string GoalLoop::state_problem(const std::optional<MeasuredState>& state, std::int64_t now) const {
   if (!state) return "no ROBOT_STATE received";
   if (!state->valid) return "ROBOT_STATE has no fresh pose or arm";
   const double age = static_cast<double>(now - state->utime) * 1e-6;
@@ -101,13 +101,13 @@ std::string Session::state_problem(const std::optional<MeasuredState>& state, st
   return "";
 }
 
-Outcome Session::on_map(const OccupancyGrid& map_W, std::int64_t map_utime) {
+Outcome GoalLoop::on_map(const OccupancyGrid& map_W, std::int64_t map_utime) {
   Outcome out;
   ++stats_.maps;
   const pipeline::MapUpdate u = planner_->set_map(map_W);
   if (!u.ok) {
     ++stats_.maps_refused;
-    out.reports.push_back(report(SessionState::kFailed, "map refused: " + u.message));
+    out.reports.push_back(report(GoalLoopState::kFailed, "map refused: " + u.message));
     out.log.push_back("map refused: " + u.message);
     return out;
   }
@@ -132,24 +132,24 @@ Outcome Session::on_map(const OccupancyGrid& map_W, std::int64_t map_utime) {
   a.start_utime = active_->start_utime + static_cast<std::int64_t>(std::llround(choice.handoff_s * 1e6));
   a.replan = true;
   a.handoff_s = choice.handoff_s;
-  out.reports.push_back(report(SessionState::kReplanning, choice.reason));
+  out.reports.push_back(report(GoalLoopState::kReplanning, choice.reason));
   return plan(a, std::move(out));
 }
 
-Outcome Session::on_goal(const Goal& goal, const std::optional<MeasuredState>& state) {
+Outcome GoalLoop::on_goal(const Goal& goal, const std::optional<MeasuredState>& state) {
   Outcome out;
   goal_ = goal;
   attempts_ = 0;
   const std::int64_t now = clock_();
-  auto refuse = [&](SessionState s, const std::string& why) {
+  auto refuse = [&](GoalLoopState s, const std::string& why) {
     out.reports.push_back(report(s, why));
     out.log.push_back("goal " + std::to_string(goal.goal_id) + " refused: " + why);
     goal_.reset();
     return std::move(out);
   };
-  if (!map_W_) return refuse(SessionState::kNoMap, "no map received yet");
+  if (!map_W_) return refuse(GoalLoopState::kNoMap, "no map received yet");
   const std::string old = map_age_problem(map_utime_, now, params_.max_map_age_s);
-  if (!old.empty()) return refuse(SessionState::kNoMap, old);
+  if (!old.empty()) return refuse(GoalLoopState::kNoMap, old);
 
   Attempt a;
   if (active_executing(now)) {
@@ -160,19 +160,19 @@ Outcome Session::on_goal(const Goal& goal, const std::optional<MeasuredState>& s
     a.handoff_s = t;
   } else {
     const std::string bad = state_problem(state, now);
-    if (!bad.empty()) return refuse(SessionState::kNoState, bad);
+    if (!bad.empty()) return refuse(GoalLoopState::kNoState, bad);
     a.start = pipeline::StartState::at_rest(state->config);
   }
-  out.reports.push_back(report(SessionState::kPlanning, ""));
+  out.reports.push_back(report(GoalLoopState::kPlanning, ""));
   return plan(a, std::move(out));
 }
 
-Outcome Session::on_tick(const std::optional<MeasuredState>& state) {
+Outcome GoalLoop::on_tick(const std::optional<MeasuredState>& state) {
   Outcome out;
   const std::int64_t now = clock_();
   if (!active_ || active_executing(now) || !goal_) return out;
   if (!active_->braking) {
-    out.reports.push_back(report(SessionState::kIdle, "goal " + std::to_string(goal_->goal_id) +
+    out.reports.push_back(report(GoalLoopState::kIdle, "goal " + std::to_string(goal_->goal_id) +
                                                           ": trajectory executed to its end"));
     out.log.push_back(out.reports.back().reason);
     goal_.reset();
@@ -180,7 +180,7 @@ Outcome Session::on_tick(const std::optional<MeasuredState>& state) {
   }
   // Stopped by a brake with the goal still set: plan again from rest.
   if (attempts_ >= params_.max_attempts) {
-    out.reports.push_back(report(SessionState::kFailed, "goal " + std::to_string(goal_->goal_id) + ": gave up after " +
+    out.reports.push_back(report(GoalLoopState::kFailed, "goal " + std::to_string(goal_->goal_id) + ": gave up after " +
                                                             std::to_string(attempts_) + " plans"));
     out.log.push_back(out.reports.back().reason);
     goal_.reset();
@@ -191,11 +191,11 @@ Outcome Session::on_tick(const std::optional<MeasuredState>& state) {
   if (!old.empty() || !bad.empty()) return out;  // wait for a fresh map and state
   Attempt a;
   a.start = pipeline::StartState::at_rest(state->config);
-  out.reports.push_back(report(SessionState::kPlanning, "re-plan from rest after braking"));
+  out.reports.push_back(report(GoalLoopState::kPlanning, "re-plan from rest after braking"));
   return plan(a, std::move(out));
 }
 
-Outcome Session::plan(const Attempt& attempt, Outcome out) {
+Outcome GoalLoop::plan(const Attempt& attempt, Outcome out) {
   ++attempts_;
   ++stats_.plans;
   pipeline::PlanRequest request;
@@ -207,7 +207,7 @@ Outcome Session::plan(const Attempt& attempt, Outcome out) {
   const pipeline::PlanResult r = planner_->plan(request);
   const std::int64_t now = clock_();
 
-  Report rep = report(SessionState::kSucceeded, attempt.replan ? "re-planned around a collision ahead" : "");
+  Report rep = report(GoalLoopState::kSucceeded, attempt.replan ? "re-planned around a collision ahead" : "");
   rep.stages = stage_timings(r);
   rep.total_s = r.total_s;
   std::string failure;
@@ -220,7 +220,7 @@ Outcome Session::plan(const Attempt& attempt, Outcome out) {
   std::string timing;
   for (const auto& s : rep.stages) timing += " " + s.name + " " + fmt("%.1f ms", s.time_s * 1e3) + " (" + s.status + ")";
   if (!failure.empty()) {
-    rep.state = SessionState::kFailed;
+    rep.state = GoalLoopState::kFailed;
     rep.reason = failure;
     out.reports.push_back(rep);
     out.log.push_back("goal " + std::to_string(goal_->goal_id) + ": plan failed in " + fmt("%.1f ms", r.total_s * 1e3) +
@@ -237,7 +237,7 @@ Outcome Session::plan(const Attempt& attempt, Outcome out) {
                                          : now + static_cast<std::int64_t>(params_.handoff.latency_s * 1e6),
                 next_plan_id_++, false};
   active_ = p;
-  state_ = SessionState::kSucceeded;
+  state_ = GoalLoopState::kSucceeded;
   rep.plan_id = p.plan_id;
   rep.duration_s = p.trajectory.total_duration_s();
   out.reports.push_back(rep);
@@ -249,14 +249,14 @@ Outcome Session::plan(const Attempt& attempt, Outcome out) {
   return out;
 }
 
-Outcome Session::brake(double from_s, const std::string& why, Outcome out) {
+Outcome GoalLoop::brake(double from_s, const std::string& why, Outcome out) {
   ++stats_.brakes;
   const double t = std::min(from_s, active_->trajectory.total_duration_s());
   Publication p{braking_trajectory(active_->trajectory, t, params_.handoff.braking),
                 active_->start_utime + static_cast<std::int64_t>(std::llround(t * 1e6)), next_plan_id_++, true};
   active_ = p;
   const bool retry = goal_ && attempts_ < params_.max_attempts;
-  Report rep = report(retry ? SessionState::kReplanning : SessionState::kFailed,
+  Report rep = report(retry ? GoalLoopState::kReplanning : GoalLoopState::kFailed,
                       "braking: " + why + (retry ? "; the goal is planned again once stopped" : ""));
   rep.duration_s = p.trajectory.total_duration_s();
   out.reports.push_back(rep);
