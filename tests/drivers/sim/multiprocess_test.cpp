@@ -36,8 +36,8 @@ std::unique_ptr<Child> start_sim(int run) {
       "multiprocess_porter_sim_" + std::to_string(run) + ".log");
 }
 
-struct Observer {
-  explicit Observer(const std::string& url) : lcm(url) {
+struct Observer : sim::test::BusObserver {
+  explicit Observer(const std::string& url) : BusObserver(url, "multiprocess_test") {
     lcm.subscribe(channels::kBaseState, [this](const porter::base_state_t& s) {
       std::lock_guard<std::mutex> l(m);
       base = s;
@@ -53,70 +53,21 @@ struct Observer {
       lio = p;
       ++lio_count;
     });
-    thread = std::thread([this] {
-      while (!stop.load()) lcm.handle_timeout(20);
-    });
+    listen();
   }
-  ~Observer() {
-    stop = true;
-    thread.join();
-  }
-  bool wait_for(const std::function<bool()>& pred, double timeout_s) {
-    const double end = runtime::mono_s() + timeout_s;
-    while (runtime::mono_s() < end) {
-      {
-        std::lock_guard<std::mutex> l(m);
-        if (pred()) return true;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
-  }
-  void command(double v, double w) {
-    porter::base_cmd_t c;
-    c.utime = runtime::wall_utime();
-    c.enabled = true;
-    c.v_mps = v;
-    c.omega_radps = w;
-    c.plan_id = -1;
-    c.source = "multiprocess_test";
-    lcm.publish(channels::kBaseCmd, c);
-  }
+  ~Observer() { stop_listening(); }
   void stream(double v, double w, double seconds) {
     const double end = runtime::mono_s() + seconds;
     while (runtime::mono_s() < end) {
-      command(v, w);
+      base_cmd(v, w);
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
   }
-  void sim_command(std::int8_t kind, const std::string& target, double duration_s = 0) {
-    porter::sim_command_t c;
-    c.utime = runtime::wall_utime();
-    c.command_id = ++command_id;
-    c.command = kind;
-    c.target = target;
-    c.duration_s = duration_s;
-    // LCM's C++ types leave numeric fields uninitialised: every field is set.
-    c.can_id = 0;
-    c.error_code = 0;
-    c.center_y_m = 0.0;
-    c.yaw_rad = 0.0;
-    c.center_x_m = 3.0;
-    c.center_z_m = 0.5;
-    c.size_x_m = c.size_y_m = c.size_z_m = 0.5;
-    c.source = "multiprocess_test";
-    lcm.publish(channels::kSimCommand, c);
-  }
 
-  LcmBus lcm;
-  std::mutex m;
   porter::base_state_t base;
   porter::robot_state_t truth;
   porter::pose_t lio;
   long base_count = 0, truth_count = 0, lio_count = 0;
-  std::int64_t command_id = 0;
-  std::atomic<bool> stop{false};
-  std::thread thread;
 };
 
 bool contains(const std::string& text, const std::string& what) {
@@ -163,7 +114,7 @@ TEST(MultiProcess, PorterBaseDrivesPorterSimOverLcmCan) {
   obs.stream(0.2, 0.0, 1.5);
   EXPECT_TRUE(obs.wait_for([&] { return std::abs(obs.base.v_mps - 0.2) < 0.002; }, 1.0));
   // World changes and refusals are acknowledged in porter-sim's log.
-  obs.sim_command(porter::sim_command_t::ADD_BOX, "crate");
+  obs.sim_command(porter::sim_command_t::ADD_BOX, "crate", 0, {3.0, 0.0, 0.5});
   obs.sim_command(porter::sim_command_t::REMOVE_OBSTACLE, "crate");
   obs.sim_command(porter::sim_command_t::POWER_CYCLE, "no_such_device", 0.1);
   std::this_thread::sleep_for(std::chrono::milliseconds(500));

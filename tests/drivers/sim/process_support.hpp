@@ -8,16 +8,22 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <functional>
+#include <mutex>
 #include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "porter/channels.hpp"
+#include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
 
 extern char** environ;
@@ -127,5 +133,94 @@ inline std::string sim_config_file(const std::string& name, int point_port, int 
   text = std::regex_replace(text, std::regex("imu_source_port: 56400"), "imu_source_port: 0");
   return write_temp(name, text);
 }
+
+/// A box for SIM_COMMAND ADD_BOX: centre and size in the world frame, metres.
+struct SimBox {
+  double x = 0, y = 0, z = 0;
+  double size_x = 0.5, size_y = 0.5, size_z = 0.5;
+};
+
+/// What the observing side of a multi-process test shares: an LCM bus handled on its own thread,
+/// a mutex `m` over what the subscription handlers store, a polling wait on a predicate under that
+/// mutex, and the commands a test sends to the simulator and the drivers. A derived observer
+/// subscribes in its constructor body, then calls listen(); its destructor calls stop_listening()
+/// first, so no handler runs while its members are being destroyed.
+class BusObserver {
+ public:
+  BusObserver(const std::string& url, std::string source) : lcm(url), source_(std::move(source)) {}
+  BusObserver(const BusObserver&) = delete;
+  BusObserver& operator=(const BusObserver&) = delete;
+  ~BusObserver() { stop_listening(); }
+
+  /// Polls `pred` under the mutex every 10 ms until it holds or the timeout passes, calling
+  /// `each` (outside the mutex) before every poll; the last poll is made after the timeout.
+  bool wait_for(const std::function<bool()>& pred, double timeout_s,
+                const std::function<void()>& each = {}) {
+    const double end = runtime::mono_s() + timeout_s;
+    while (runtime::mono_s() < end) {
+      if (each) each();
+      {
+        std::lock_guard<std::mutex> l(m);
+        if (pred()) return true;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    std::lock_guard<std::mutex> l(m);
+    return pred();
+  }
+
+  void base_cmd(double v, double w) {
+    porter::base_cmd_t c;
+    c.utime = runtime::wall_utime();
+    c.enabled = true;
+    c.v_mps = v;
+    c.omega_radps = w;
+    c.plan_id = -1;
+    c.source = source_;
+    lcm.publish(channels::kBaseCmd, c);
+  }
+
+  void sim_command(std::int8_t kind, const std::string& target, double duration_s = 0,
+                   const SimBox& box = {}) {
+    porter::sim_command_t c;
+    c.utime = runtime::wall_utime();
+    c.command_id = ++command_id_;
+    c.command = kind;
+    c.target = target;
+    c.duration_s = duration_s;
+    // LCM's C++ types leave numeric fields uninitialised: every field is set.
+    c.can_id = 0;
+    c.error_code = 0;
+    c.yaw_rad = 0.0;
+    c.center_x_m = box.x;
+    c.center_y_m = box.y;
+    c.center_z_m = box.z;
+    c.size_x_m = box.size_x;
+    c.size_y_m = box.size_y;
+    c.size_z_m = box.size_z;
+    c.source = source_;
+    lcm.publish(channels::kSimCommand, c);
+  }
+
+  LcmBus lcm;
+  std::mutex m;
+
+ protected:
+  void listen() {
+    thread_ = std::thread([this] {
+      while (!stop_.load()) lcm.handle_timeout(20);
+    });
+  }
+  void stop_listening() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+  }
+
+ private:
+  std::string source_;
+  std::int64_t command_id_ = 0;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
 
 }  // namespace porter::sim::test

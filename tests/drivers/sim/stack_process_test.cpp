@@ -78,10 +78,10 @@ struct CloudSummary {
   int in_box = 0;       ///< returns inside the test's box (base frame = world frame at start)
 };
 
-struct Observer {
+struct Observer : sim::test::BusObserver {
   explicit Observer(const std::string& url)
       // A 20,000-point cloud is a 440 kB burst of LCM fragments: the socket buffer must hold it.
-      : lcm(url + "&recv_buf_size=4194304") {
+      : BusObserver(url + "&recv_buf_size=4194304", "stack_process_test") {
     lcm.subscribe(channels::kSimTruth, [this](const porter::robot_state_t& s) {
       std::lock_guard<std::mutex> l(m);
       truth = s;
@@ -102,14 +102,9 @@ struct Observer {
       std::lock_guard<std::mutex> l(m);
       clouds.push_back(s);
     });
-    thread = std::thread([this] {
-      while (!stop.load()) lcm.handle_timeout(20);
-    });
+    listen();
   }
-  ~Observer() {
-    stop = true;
-    thread.join();
-  }
+  ~Observer() { stop_listening(); }
 
   CloudSummary summarize(const porter::point_cloud_t& c) const {
     CloudSummary s;
@@ -128,20 +123,6 @@ struct Observer {
     return s;
   }
 
-  bool wait_for(const std::function<bool()>& pred, double timeout_s,
-                const std::function<void()>& each = {}) {
-    const double end = runtime::mono_s() + timeout_s;
-    while (runtime::mono_s() < end) {
-      if (each) each();
-      {
-        std::lock_guard<std::mutex> l(m);
-        if (pred()) return true;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    std::lock_guard<std::mutex> l(m);
-    return pred();
-  }
   std::vector<CloudSummary> clouds_since(std::size_t from) {
     std::lock_guard<std::mutex> l(m);
     return std::vector<CloudSummary>(clouds.begin() + static_cast<long>(std::min(from, clouds.size())),
@@ -152,16 +133,6 @@ struct Observer {
     return clouds.size();
   }
 
-  void base_cmd(double v, double w) {
-    porter::base_cmd_t c;
-    c.utime = runtime::wall_utime();
-    c.enabled = true;
-    c.v_mps = v;
-    c.omega_radps = w;
-    c.plan_id = -1;
-    c.source = "stack_process_test";
-    lcm.publish(channels::kBaseCmd, c);
-  }
   void arm_cmd(const std::vector<double>& q) {
     porter::arm_cmd_t c;
     c.utime = runtime::wall_utime();
@@ -175,26 +146,6 @@ struct Observer {
     c.source = "stack_process_test";
     lcm.publish(channels::kArmCmd, c);
   }
-  void sim_command(std::int8_t kind, const std::string& target, double duration_s = 0) {
-    porter::sim_command_t c;
-    c.utime = runtime::wall_utime();
-    c.command_id = ++command_id;
-    c.command = kind;
-    c.target = target;
-    c.duration_s = duration_s;
-    // LCM's C++ types leave numeric fields uninitialised: every field is set.
-    c.can_id = 0;
-    c.error_code = 0;
-    c.center_y_m = 0.0;
-    c.yaw_rad = 0.0;
-    c.center_x_m = box_x;
-    c.center_z_m = 0.5;
-    c.size_x_m = 0.5;
-    c.size_y_m = 2.0;
-    c.size_z_m = 1.0;
-    c.source = "stack_process_test";
-    lcm.publish(channels::kSimCommand, c);
-  }
   bool truth_q_near(const std::vector<double>& q, double tol) const {
     if (truth_count == 0 || truth.q_rad.size() != q.size()) return false;
     for (std::size_t j = 0; j < q.size(); ++j) {
@@ -204,16 +155,11 @@ struct Observer {
   }
 
   const double box_x = -3.0;  // behind the robot: the arm and payload hide much of the view ahead
-  LcmBus lcm;
-  std::mutex m;
   porter::robot_state_t truth;
   porter::base_state_t base;
   porter::arm_state_t arm;
   std::vector<CloudSummary> clouds;
   long truth_count = 0, base_count = 0, arm_count = 0;
-  std::int64_t command_id = 0;
-  std::atomic<bool> stop{false};
-  std::thread thread;
 };
 
 TEST(StackProcesses, SimulatedRobotWithBaseArmAndLidarDrivers) {
@@ -288,7 +234,8 @@ TEST(StackProcesses, SimulatedRobotWithBaseArmAndLidarDrivers) {
   RecordProperty("arm_payload_points_per_cloud", std::to_string(left_reach / static_cast<double>(c.size())));
 
   // SIM_COMMAND ADD_BOX: the box shows up in the cloud, where it was put.
-  obs.sim_command(porter::sim_command_t::ADD_BOX, "crate");
+  obs.sim_command(porter::sim_command_t::ADD_BOX, "crate", 0,
+                  {obs.box_x, 0.0, 0.5, 0.5, 2.0, 1.0});
   from = obs.cloud_count();
   EXPECT_TRUE(obs.wait_for([&] {
     for (std::size_t i = from; i < obs.clouds.size(); ++i) {
