@@ -32,6 +32,8 @@ RollingMap::RollingMap(const RollingMapParams& params)
   log_odds_.assign(n, kUnknown);
   touched_.assign((n + 63) / 64, 0);
   ray_end_.assign((n + 63) / 64, 0);
+  block_dims_ = (params_.dims.array() + ((1 << kBlockShift) - 1)).matrix() / (1 << kBlockShift);
+  block_rev_.assign(static_cast<std::size_t>(block_dims_.prod()), 0);
   window_min_ = Eigen::Vector3i(kKeyOffset - params_.dims.x() / 2, kKeyOffset - params_.dims.y() / 2,
                                 key_of(params_.z_min_m));
   hit_log_ = logodds(params_.prob_hit);
@@ -48,8 +50,23 @@ bool RollingMap::needs_recenter(double x_m, double y_m, double distance_m) const
   return std::abs(x_m - cx) > distance_m || std::abs(y_m - cy) > distance_m;
 }
 
+void RollingMap::stamp_slot(std::int64_t k) {
+  const std::int64_t nx = params_.dims.x(), ny = params_.dims.y();
+  const std::int64_t sx = k % nx, r = k / nx, sy = r % ny, sz = r / ny;
+  block_rev_[static_cast<std::size_t>((sx >> kBlockShift) +
+                                      block_dims_.x() * ((sy >> kBlockShift) + block_dims_.y() * (sz >> kBlockShift)))] =
+      revision_;
+}
+
 void RollingMap::clear_plane(int axis, int s) {
   const Eigen::Vector3i& n = params_.dims;
+  const Eigen::Vector3i& nb = block_dims_;
+  const int b = s >> kBlockShift;
+  for (int bz = 0; bz < nb.z(); ++bz)
+    for (int bo = 0; bo < (axis == 0 ? nb.y() : nb.x()); ++bo) {
+      const int bx = axis == 0 ? b : bo, by = axis == 0 ? bo : b;
+      block_rev_[static_cast<std::size_t>(bx + nb.x() * (by + static_cast<std::int64_t>(nb.y()) * bz))] = revision_;
+    }
   if (axis == 0) {
     for (int z = 0; z < n.z(); ++z)
       for (int y = 0; y < n.y(); ++y) log_odds_[static_cast<std::size_t>(s + stride_y_ * y + stride_z_ * z)] = kUnknown;
@@ -71,6 +88,7 @@ bool RollingMap::center_on(double x_m, double y_m) {
     const int old_min = window_min_[axis];
     const int shift = new_min[axis] - old_min;
     if (shift == 0) continue;
+    if (!moved) ++revision_;
     moved = true;
     if (std::abs(shift) >= n[axis]) {
       for (int s = 0; s < n[axis]; ++s) clear_plane(axis, s);
@@ -84,7 +102,11 @@ bool RollingMap::center_on(double x_m, double y_m) {
   return moved;
 }
 
-void RollingMap::clear() { std::fill(log_odds_.begin(), log_odds_.end(), kUnknown); }
+void RollingMap::clear() {
+  ++revision_;
+  std::fill(log_odds_.begin(), log_odds_.end(), kUnknown);
+  std::fill(block_rev_.begin(), block_rev_.end(), revision_);
+}
 
 VoxelState RollingMap::state(const Eigen::Vector3i& key) const {
   const float v = log_odds(key);
@@ -172,6 +194,7 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
                                      const IntegrateOptions& options) {
   IntegrateStats stats;
   stats.points = points_W.size();
+  ++revision_;
   // Keys exist for |coord| < 32767 voxels; the window lies well inside that.
   const float key_limit = static_cast<float>((kKeyOffset - 2) * params_.resolution_m);
   const auto representable = [&](const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < key_limit; };
@@ -235,11 +258,16 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
   // Pass 3: one update per voxel, then clear the marks. Hits first (they are listed); every
   // other touched voxel is free, and is found by scanning the bitset, which visits the log-odds
   // in memory order instead of the rays' scattered order.
+  // A voxel's state: 0 unknown, 1 free, 2 occupied; a change stamps its block.
+  const float occ = occupancy_log_;
+  const auto state_of = [occ](float v) { return v != v ? 0 : (v >= occ ? 2 : 1); };
   for (std::int64_t k : occupied_list_) {
     float& v = log_odds_[static_cast<std::size_t>(k)];
+    const int before = state_of(v);
     if (v != v) v = 0.0f;
     v += hit_log_;
     if (v > clamp_max_log_) v = clamp_max_log_;
+    if (state_of(v) != before) stamp_slot(k);
     clear_bit(touched_, k);
   }
   std::uint64_t free_updates = 0;
@@ -250,10 +278,13 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
     while (bits) {
       const int b = __builtin_ctzll(bits);
       bits &= bits - 1;
-      float& v = log_odds_[(w << 6) + static_cast<std::size_t>(b)];
+      const std::size_t k = (w << 6) + static_cast<std::size_t>(b);
+      float& v = log_odds_[k];
+      const int before = state_of(v);
       if (v != v) v = 0.0f;
       v += miss_log_;
       if (v < clamp_min_log_) v = clamp_min_log_;
+      if (state_of(v) != before) stamp_slot(static_cast<std::int64_t>(k));
       ++free_updates;
     }
   }

@@ -24,6 +24,12 @@
 // the space above it); every other point is a hit. Endpoints outside the window give only the
 // free part of their ray inside the window.
 //
+// Change tracking (for readers that re-encode only what changed, octomap_binary.hpp): slots are
+// grouped in blocks of 8 x 8 x 8 (slot / 8 per axis; the last block of an axis may be partial).
+// Every mutating call (integrate, a center_on that moves, clear) raises revision(), and stamps
+// with it every block in which a voxel's state (unknown / free / occupied) may have changed.
+// A block whose stamp is <= a revision r held no state change since r.
+//
 // Frames and units: world frame W, metres. Memory: 4.25 bytes per voxel of the window.
 // Thread-safety: none (one thread integrates; const queries may run while nothing writes).
 
@@ -130,8 +136,19 @@ class RollingMap {
   }
   const float* raw_log_odds() const { return log_odds_.data(); }
 
+  /// Change tracking (see the header comment).
+  static constexpr int kBlockShift = 3;
+  std::uint64_t revision() const { return revision_; }
+  const Eigen::Vector3i& block_dims() const { return block_dims_; }
+  /// Revision of the last possible state change in block (bx, by, bz) (slot >> kBlockShift).
+  std::uint64_t block_revision(int bx, int by, int bz) const {
+    return block_rev_[static_cast<std::size_t>(bx + block_dims_.x() * (by + static_cast<std::int64_t>(block_dims_.y()) * bz))];
+  }
+
  private:
   void clear_plane(int axis, int slot_index);
+  /// Stamps the block of a slot with the current revision.
+  void stamp_slot(std::int64_t slot);
   /// Marks the voxels of the ray origin -> end (end voxel excluded) as free in this cloud.
   void cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_origin, const Eigen::Vector3f& end,
             IntegrateStats& stats);
@@ -146,6 +163,9 @@ class RollingMap {
   std::vector<std::int64_t> occupied_list_, end_list_;
   std::vector<Eigen::Vector3f> ray_ends_;
   float hit_log_, miss_log_, clamp_min_log_, clamp_max_log_, occupancy_log_;
+  std::uint64_t revision_ = 0;
+  Eigen::Vector3i block_dims_;
+  std::vector<std::uint64_t> block_rev_;
 };
 
 template <class Fn>
