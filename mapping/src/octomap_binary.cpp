@@ -121,35 +121,59 @@ class Encoder {
   std::vector<std::uint8_t> flags_;
 };
 
-// The subtree of a block of size^3 voxels at (x, y, z) inside a brick's 8^3 states
-// (x + 8 y + 64 z), pre-order, as Encoder::node writes it below the brick level.
-int encode_local(const std::uint8_t* st, int size, int x, int y, int z, std::vector<std::uint8_t>& out) {
-  const std::size_t pos = out.size();
-  out.push_back(0);
-  out.push_back(0);
-  int codes[8];
-  const int half = size / 2;
-  for (int i = 0; i < 8; ++i) {
-    const int cx = x + (i & 1) * half, cy = y + ((i >> 1) & 1) * half, cz = z + ((i >> 2) & 1) * half;
-    codes[i] = half == 1 ? st[cx + 8 * cy + 64 * cz] : encode_local(st, half, cx, cy, cz, out);
+// The subtree of one brick from its packed states (voxel x + 8 y + 64 z at bits 2 i of
+// words[i / 32]), bottom up: a node's eight child codes packed as the format writes them (child
+// i at bits 2 i, x in bit 0 of i, y bit 1, z bit 2) decide it: 0 = unknown, 0x5555 = free leaf,
+// 0xAAAA = occupied leaf, anything else an inner node with those two bytes. Then the inner
+// nodes are written pre-order. Returns the brick's code.
+int encode_brick_states(const std::uint64_t* words, std::vector<std::uint8_t>& out) {
+  const auto code_of = [](unsigned packed) {
+    return packed == 0 ? kUnknown : (packed == 0x5555u ? kFree : (packed == 0xAAAAu ? kOccupied : kInner));
+  };
+  // Four bits: voxels x = 2a, 2a + 1 of row (y, z).
+  const auto pair = [words](int a, int y, int z) {
+    const int i = 2 * a + 8 * y + 64 * z;
+    return static_cast<unsigned>((words[i >> 5] >> (2 * (i & 31))) & 0xFu);
+  };
+  unsigned p1[64], p2[8], p3 = 0;  // packed child codes of the 2^3, 4^3 and 8^3 nodes
+  int c1[64], c2[8];
+  for (int c = 0; c < 4; ++c)
+    for (int b = 0; b < 4; ++b)
+      for (int a = 0; a < 4; ++a) {
+        const int n = a + 4 * b + 16 * c;
+        p1[n] = pair(a, 2 * b, 2 * c) | pair(a, 2 * b + 1, 2 * c) << 4 | pair(a, 2 * b, 2 * c + 1) << 8 |
+                pair(a, 2 * b + 1, 2 * c + 1) << 12;
+        c1[n] = code_of(p1[n]);
+      }
+  for (int r = 0; r < 2; ++r)
+    for (int q = 0; q < 2; ++q)
+      for (int p = 0; p < 2; ++p) {
+        unsigned v = 0;
+        for (int i = 0; i < 8; ++i) {
+          const int n = (2 * p + (i & 1)) + 4 * (2 * q + ((i >> 1) & 1)) + 16 * (2 * r + ((i >> 2) & 1));
+          v |= static_cast<unsigned>(c1[n]) << (2 * i);
+        }
+        const int m = p + 2 * q + 4 * r;
+        p2[m] = v;
+        c2[m] = code_of(v);
+      }
+  for (int i = 0; i < 8; ++i) p3 |= static_cast<unsigned>(c2[i]) << (2 * i);
+  const int root = code_of(p3);
+  if (root != kInner) return root;
+  const auto bytes = [&out](unsigned v) {
+    out.push_back(static_cast<std::uint8_t>(v & 0xFFu));
+    out.push_back(static_cast<std::uint8_t>(v >> 8));
+  };
+  bytes(p3);
+  for (int m = 0; m < 8; ++m) {
+    if (c2[m] != kInner) continue;
+    bytes(p2[m]);
+    const int p = m & 1, q = (m >> 1) & 1, r = m >> 2;
+    for (int i = 0; i < 8; ++i) {
+      const int n = (2 * p + (i & 1)) + 4 * (2 * q + ((i >> 1) & 1)) + 16 * (2 * r + ((i >> 2) & 1));
+      if (c1[n] == kInner) bytes(p1[n]);
+    }
   }
-  bool uniform = codes[0] == kFree || codes[0] == kOccupied;
-  bool any = false;
-  for (int i = 0; i < 8; ++i) {
-    uniform = uniform && codes[i] == codes[0];
-    any = any || codes[i] != kUnknown;
-  }
-  if (uniform || !any) {
-    out.resize(pos);
-    return uniform ? codes[0] : kUnknown;
-  }
-  std::uint8_t b0 = 0, b1 = 0;
-  for (int i = 0; i < 4; ++i) {
-    b0 = static_cast<std::uint8_t>(b0 | (codes[i] << (2 * i)));
-    b1 = static_cast<std::uint8_t>(b1 | (codes[i + 4] << (2 * i)));
-  }
-  out[pos] = b0;
-  out[pos + 1] = b1;
   return kInner;
 }
 
@@ -170,49 +194,51 @@ OctomapBinaryWriter::Brick& OctomapBinaryWriter::entry(int bx, int by, int bz) {
 
 void OctomapBinaryWriter::encode_brick(const RollingMap& map, int bx, int by, int bz, Brick& e) {
   constexpr int kB = 1 << kBrickShift;
+  constexpr int kW = RollingMap::kBlockWords;
   const Eigen::Vector3i lo = map.window_min_key(), hi = lo + map.dims();
   const Eigen::Vector3i& n = map.dims();
-  const float* v = map.raw_log_odds();
-  std::uint8_t st[kB * kB * kB];
-  std::uint8_t flags = 0;
-  std::int64_t sx[kB];
-  bool in_x[kB];
-  for (int x = 0; x < kB; ++x) {
-    const int kx = bx * kB + x;
-    in_x[x] = kx >= lo.x() && kx < hi.x();
-    sx[x] = kx % n.x();
-  }
-  for (int z = 0; z < kB; ++z) {
-    const int kz = bz * kB + z;
-    const bool in_z = kz >= lo.z() && kz < hi.z();
-    for (int y = 0; y < kB; ++y) {
-      const int ky = by * kB + y;
-      std::uint8_t* row = st + kB * y + kB * kB * z;
-      if (!in_z || ky < lo.y() || ky >= hi.y()) {
-        std::fill(row, row + kB, static_cast<std::uint8_t>(kUnknown));
-        flags |= kHasUnknown;
-        continue;
-      }
-      const std::int64_t base = map.slot(Eigen::Vector3i(0, ky, kz));
-      for (int x = 0; x < kB; ++x) {
-        const float f = in_x[x] ? v[base + sx[x]] : std::numeric_limits<float>::quiet_NaN();
-        const int code = f != f ? kUnknown : (map.occupied(f) ? kOccupied : kFree);
-        row[x] = static_cast<std::uint8_t>(code);
-        flags |= code == kUnknown ? kHasUnknown : (code == kFree ? kHasFree : kHasOccupied);
-      }
+  // Per axis: the slot of each of the brick's 8 keys (-1 outside the window), and whether they
+  // are one whole slot block (inside the window, contiguous, starting at a multiple of 8).
+  int slot[3][kB];
+  bool whole = true;
+  const int b[3] = {bx, by, bz};
+  for (int a = 0; a < 3; ++a) {
+    for (int i = 0; i < kB; ++i) {
+      const int k = b[a] * kB + i;
+      slot[a][i] = k >= lo[a] && k < hi[a] ? k % n[a] : -1;
     }
+    whole = whole && slot[a][0] >= 0 && slot[a][0] % kB == 0 && slot[a][kB - 1] == slot[a][0] + kB - 1;
   }
   e.key = Eigen::Vector3i(bx, by, bz);
   e.bytes.clear();
-  if (flags == kHasUnknown) {
-    e.code = kUnknown;
-  } else if (flags == kHasFree) {
-    e.code = kFree;
-  } else if (flags == kHasOccupied) {
-    e.code = kOccupied;
+  std::uint64_t packed[kW];
+  const std::uint64_t* words = packed;
+  if (whole) {
+    words = map.block_states(slot[0][0] >> kBrickShift, slot[1][0] >> kBrickShift, slot[2][0] >> kBrickShift);
   } else {
-    e.code = static_cast<std::uint8_t>(encode_local(st, kB, 0, 0, 0, e.bytes));
+    std::fill(packed, packed + kW, std::uint64_t{0});
+    for (int z = 0; z < kB; ++z)
+      for (int y = 0; y < kB; ++y)
+        for (int x = 0; x < kB; ++x) {
+          const int sx = slot[0][x], sy = slot[1][y], sz = slot[2][z];
+          if (sx < 0 || sy < 0 || sz < 0) continue;
+          const std::uint64_t* w = map.block_states(sx >> kBrickShift, sy >> kBrickShift, sz >> kBrickShift);
+          const int i = (sx & 7) + 8 * (sy & 7) + 64 * (sz & 7);
+          const int o = x + kB * y + kB * kB * z;
+          packed[o >> 5] |= ((w[i >> 5] >> (2 * (i & 31))) & 3u) << (2 * (o & 31));
+        }
   }
+  bool unknown = true, free = true, occupied = true;
+  for (int j = 0; j < kW; ++j) {
+    unknown = unknown && words[j] == 0;
+    free = free && words[j] == 0x5555555555555555ull;
+    occupied = occupied && words[j] == 0xAAAAAAAAAAAAAAAAull;
+  }
+  if (unknown || free || occupied) {
+    e.code = static_cast<std::uint8_t>(unknown ? kUnknown : (free ? kFree : kOccupied));
+    return;
+  }
+  e.code = static_cast<std::uint8_t>(encode_brick_states(words, e.bytes));
 }
 
 int OctomapBinaryWriter::node(int depth, int kx, int ky, int kz, std::vector<std::uint8_t>& out) {

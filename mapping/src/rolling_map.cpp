@@ -34,6 +34,7 @@ RollingMap::RollingMap(const RollingMapParams& params)
   ray_end_.assign((n + 63) / 64, 0);
   block_dims_ = (params_.dims.array() + ((1 << kBlockShift) - 1)).matrix() / (1 << kBlockShift);
   block_rev_.assign(static_cast<std::size_t>(block_dims_.prod()), 0);
+  states_.assign(static_cast<std::size_t>(block_dims_.prod()) * kBlockWords, 0);
   window_min_ = Eigen::Vector3i(kKeyOffset - params_.dims.x() / 2, kKeyOffset - params_.dims.y() / 2,
                                 key_of(params_.z_min_m));
   hit_log_ = logodds(params_.prob_hit);
@@ -50,22 +51,36 @@ bool RollingMap::needs_recenter(double x_m, double y_m, double distance_m) const
   return std::abs(x_m - cx) > distance_m || std::abs(y_m - cy) > distance_m;
 }
 
-void RollingMap::stamp_slot(std::int64_t k) {
+void RollingMap::set_state(std::int64_t k, int state) {
   const std::int64_t nx = params_.dims.x(), ny = params_.dims.y();
-  const std::int64_t sx = k % nx, r = k / nx, sy = r % ny, sz = r / ny;
-  block_rev_[static_cast<std::size_t>((sx >> kBlockShift) +
-                                      block_dims_.x() * ((sy >> kBlockShift) + block_dims_.y() * (sz >> kBlockShift)))] =
-      revision_;
+  const int sx = static_cast<int>(k % nx), r = static_cast<int>(k / nx), sy = r % static_cast<int>(ny),
+            sz = r / static_cast<int>(ny);
+  const std::size_t b = block_index(sx >> kBlockShift, sy >> kBlockShift, sz >> kBlockShift);
+  const int i = (sx & 7) + 8 * (sy & 7) + 64 * (sz & 7);
+  std::uint64_t& w = states_[b * kBlockWords + static_cast<std::size_t>(i >> 5)];
+  const int shift = 2 * (i & 31);
+  w = (w & ~(std::uint64_t{3} << shift)) | (static_cast<std::uint64_t>(state) << shift);
+  block_rev_[b] = revision_;
 }
 
 void RollingMap::clear_plane(int axis, int s) {
   const Eigen::Vector3i& n = params_.dims;
   const Eigen::Vector3i& nb = block_dims_;
-  const int b = s >> kBlockShift;
+  const int b = s >> kBlockShift, o = s & 7;
+  // The plane's voxels in each block it crosses: x = o (2 bits every 16, in every word) or
+  // y = o (one 16-bit row in every other word).
+  const std::uint64_t x_mask = std::uint64_t{0x0003000300030003} << (2 * o);
+  const std::uint64_t y_mask = std::uint64_t{0xFFFF} << (16 * (o & 3));
   for (int bz = 0; bz < nb.z(); ++bz)
     for (int bo = 0; bo < (axis == 0 ? nb.y() : nb.x()); ++bo) {
-      const int bx = axis == 0 ? b : bo, by = axis == 0 ? bo : b;
-      block_rev_[static_cast<std::size_t>(bx + nb.x() * (by + static_cast<std::int64_t>(nb.y()) * bz))] = revision_;
+      const std::size_t bi = axis == 0 ? block_index(b, bo, bz) : block_index(bo, b, bz);
+      block_rev_[bi] = revision_;
+      std::uint64_t* w = &states_[bi * kBlockWords];
+      if (axis == 0) {
+        for (int j = 0; j < kBlockWords; ++j) w[j] &= ~x_mask;
+      } else {
+        for (int z = 0; z < 8; ++z) w[(o >> 2) + 2 * z] &= ~y_mask;
+      }
     }
   if (axis == 0) {
     for (int z = 0; z < n.z(); ++z)
@@ -106,6 +121,7 @@ void RollingMap::clear() {
   ++revision_;
   std::fill(log_odds_.begin(), log_odds_.end(), kUnknown);
   std::fill(block_rev_.begin(), block_rev_.end(), revision_);
+  std::fill(states_.begin(), states_.end(), 0);
 }
 
 VoxelState RollingMap::state(const Eigen::Vector3i& key) const {
@@ -267,7 +283,8 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
     if (v != v) v = 0.0f;
     v += hit_log_;
     if (v > clamp_max_log_) v = clamp_max_log_;
-    if (state_of(v) != before) stamp_slot(k);
+    const int after = state_of(v);
+    if (after != before) set_state(k, after);
     clear_bit(touched_, k);
   }
   std::uint64_t free_updates = 0;
@@ -284,7 +301,8 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
       if (v != v) v = 0.0f;
       v += miss_log_;
       if (v < clamp_min_log_) v = clamp_min_log_;
-      if (state_of(v) != before) stamp_slot(static_cast<std::int64_t>(k));
+      const int after = state_of(v);
+      if (after != before) set_state(static_cast<std::int64_t>(k), after);
       ++free_updates;
     }
   }

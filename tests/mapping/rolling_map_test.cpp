@@ -275,8 +275,9 @@ std::vector<std::uint8_t> slot_states(const RollingMap& map) {
   return s;
 }
 
-// Every slot whose state changed since revision r lies in a block stamped after r (what the
-// incremental writer relies on), over random clouds, moves and clears.
+// Every slot whose state changed since revision r lies in a block stamped after r, and the
+// packed states equal the log-odds' (what the incremental writer relies on), over random
+// clouds, moves and clears.
 TEST(RollingMap, BlockStampsCoverEveryStateChange) {
   RollingMapParams p;
   p.dims = {45, 38, 21};  // not multiples of 8: partial blocks at the ends
@@ -302,6 +303,17 @@ TEST(RollingMap, BlockStampsCoverEveryStateChange) {
       missed += map.block_revision(sx >> RollingMap::kBlockShift, sy >> RollingMap::kBlockShift,
                                    sz >> RollingMap::kBlockShift) <= r;
     }
+    // The packed states equal the log-odds' states, slot for slot.
+    std::int64_t packed_wrong = 0;
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      const int sx = static_cast<int>(i % static_cast<std::size_t>(n.x()));
+      const int sy = static_cast<int>((i / static_cast<std::size_t>(n.x())) % static_cast<std::size_t>(n.y()));
+      const int sz = static_cast<int>(i / (static_cast<std::size_t>(n.x()) * static_cast<std::size_t>(n.y())));
+      const std::uint64_t* w = map.block_states(sx >> 3, sy >> 3, sz >> 3);
+      const int j = (sx & 7) + 8 * (sy & 7) + 64 * (sz & 7);
+      packed_wrong += static_cast<int>((w[j >> 5] >> (2 * (j & 31))) & 3u) != after[i];
+    }
+    EXPECT_EQ(packed_wrong, 0) << "round " << round;
   }
   EXPECT_GT(changed_total, 10000);
   EXPECT_EQ(missed, 0);
