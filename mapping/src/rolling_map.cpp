@@ -155,26 +155,25 @@ void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_
   ++stats.rays;
   const Eigen::Vector3i& n = params_.dims;
   const std::int64_t stride[3] = {1, stride_y_, stride_z_};
+  // Locals, so the marks' stores (uint64) cannot alias them.
+  std::uint64_t* const touched = touched_.data();
+  std::uint64_t traversed = 1;
   int s[3];
   for (int i = 0; i < 3; ++i) s[i] = key_origin[i] % n[i];
   std::int64_t idx = s[0] + stride_y_ * s[1] + stride_z_ * s[2];
-  auto mark_free = [&](std::int64_t k) {
-    set_bit(touched_, k);  // a hit stays a hit: hits are listed and updated first
-  };
+  // A hit stays a hit: hits are listed and updated first.
+  const auto mark_free = [touched](std::int64_t k) { touched[k >> 6] |= std::uint64_t{1} << (k & 63); };
   mark_free(idx);
-  ++stats.voxels_traversed;
 
   Eigen::Vector3f direction = end - origin;
   const float length = direction.norm();
   direction /= length;
-  int step[3];
+  int step[3], left[3];  // left: steps along the axis before the ray leaves the window
   double t_max[3], t_delta[3];
   int key[3] = {key_origin.x(), key_origin.y(), key_origin.z()};
-  int lo[3], hi[3];
   for (int i = 0; i < 3; ++i) {
-    lo[i] = window_min_[i];
-    hi[i] = window_min_[i] + n[i];
     step[i] = direction[i] > 0.0f ? 1 : (direction[i] < 0.0f ? -1 : 0);
+    left[i] = step[i] > 0 ? window_min_[i] + n[i] - 1 - key[i] : (step[i] < 0 ? key[i] - window_min_[i] : 0);
     if (step[i] != 0) {
       double border = key_to_coord(key[i]);
       border += static_cast<float>(step[i] * params_.resolution_m * 0.5);
@@ -185,25 +184,34 @@ void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_
       t_delta[i] = std::numeric_limits<double>::max();
     }
   }
+  const auto argmin = [&t_max] {
+    return t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
+  };
+  // OctoMap's loop (step the axis of the smallest tMax; stop at the end key, or once the
+  // smallest tMax passes the length), with the next axis chosen once per step: the smallest
+  // tMax after a step is the one the next step takes.
+  int dim = argmin();
   for (;;) {
-    const int dim = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
-    key[dim] += step[dim];
-    t_max[dim] += t_delta[dim];
-    if (key[0] == key_end.x() && key[1] == key_end.y() && key[2] == key_end.z()) return;
-    if (std::min(std::min(t_max[0], t_max[1]), t_max[2]) > length) return;
-    if (key[dim] < lo[dim] || key[dim] >= hi[dim]) return;
-    s[dim] += step[dim];
-    idx += step[dim] * stride[dim];
-    if (s[dim] == n[dim]) {
-      s[dim] = 0;
-      idx -= n[dim] * stride[dim];
-    } else if (s[dim] < 0) {
-      s[dim] = n[dim] - 1;
-      idx += n[dim] * stride[dim];
+    const int d = dim;
+    key[d] += step[d];
+    t_max[d] += t_delta[d];
+    if (key[0] == key_end.x() && key[1] == key_end.y() && key[2] == key_end.z()) break;
+    dim = argmin();
+    if (t_max[dim] > length) break;
+    if (--left[d] < 0) break;
+    s[d] += step[d];
+    idx += step[d] * stride[d];
+    if (s[d] == n[d]) {
+      s[d] = 0;
+      idx -= n[d] * stride[d];
+    } else if (s[d] < 0) {
+      s[d] = n[d] - 1;
+      idx += n[d] * stride[d];
     }
     mark_free(idx);
-    ++stats.voxels_traversed;
+    ++traversed;
   }
+  stats.voxels_traversed += traversed;
 }
 
 IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std::vector<Eigen::Vector3f>& points_W,
