@@ -229,7 +229,6 @@ void run(const char* scene, const Recorded& rec, const porter::RobotModel& robot
     if (k % static_cast<std::size_t>(clouds_per_map) == 0) {
       const double t3 = cpu_s();
       writer.write(mapper.map(), stream);
-      std::fprintf(stderr, "DBG k=%zu bricks %lld encoded %lld cpu %.2f ms\n", k, (long long)writer.last_stats().bricks, (long long)writer.last_stats().bricks_encoded, 1e3*(cpu_s()-t3));
       if (k > 0) {  // the first map encodes every brick; steady state is what counts per map
         inc_cpu += cpu_s() - t3;
         ++inc_maps;
@@ -237,7 +236,6 @@ void run(const char* scene, const Recorded& rec, const porter::RobotModel& robot
     }
   }
   writer.write(mapper.map(), stream);  // the final map, to compare with the full stream
-  { const double t9 = cpu_s(); writer.write(mapper.map(), stream); std::fprintf(stderr, "DBG nochange %.2f ms\n", 1e3*(cpu_s()-t9)); }
   std::vector<std::uint8_t> full;
   double full_cpu = 0.0;
   for (int i = 0; i < 3; ++i) {
