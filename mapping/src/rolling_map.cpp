@@ -296,7 +296,20 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
     clear_bit(touched_, k);
   }
   std::uint64_t free_updates = 0;
-  for (std::size_t w = 0; w < touched_.size(); ++w) {
+  // The touched voxels are sparse in the 41 MB array: ask for the cache lines (16 floats, 16
+  // bits of a word) a few words ahead of the ones being updated.
+  constexpr std::size_t kAhead = 8;
+  const std::size_t words = touched_.size();
+  for (std::size_t w = 0; w < words; ++w) {
+    if (w + kAhead < words) {
+      const std::uint64_t ahead = touched_[w + kAhead];
+      if (ahead != 0) {
+        const float* line = log_odds_.data() + ((w + kAhead) << 6);
+        for (int q = 0; q < 4; ++q) {
+          if ((ahead >> (16 * q)) & 0xFFFFu) __builtin_prefetch(line + 16 * q, 1);
+        }
+      }
+    }
     std::uint64_t bits = touched_[w];
     if (bits == 0) continue;
     touched_[w] = 0;
