@@ -63,8 +63,25 @@ void RollingMap::set_state(std::int64_t k, int state) {
   block_rev_[b] = revision_;
 }
 
-void RollingMap::clear_plane(int axis, int s) {
+void RollingMap::clear_slots(int axis, int first, int count) {
+  if (count <= 0) return;
+  for (int s = first; s < first + count; ++s) clear_plane_states(axis, s);
+  // The log-odds: per row a run of `count` floats (x), or `count` whole rows per layer (y).
   const Eigen::Vector3i& n = params_.dims;
+  for (int z = 0; z < n.z(); ++z) {
+    if (axis == 0) {
+      for (int y = 0; y < n.y(); ++y) {
+        float* row = &log_odds_[static_cast<std::size_t>(stride_y_ * y + stride_z_ * z + first)];
+        std::fill(row, row + count, kUnknown);
+      }
+    } else {
+      float* rows = &log_odds_[static_cast<std::size_t>(stride_y_ * first + stride_z_ * z)];
+      std::fill(rows, rows + static_cast<std::ptrdiff_t>(count) * n.x(), kUnknown);
+    }
+  }
+}
+
+void RollingMap::clear_plane_states(int axis, int s) {
   const Eigen::Vector3i& nb = block_dims_;
   const int b = s >> kBlockShift, o = s & 7;
   // The plane's voxels in each block it crosses: x = o (2 bits every 16, in every word) or
@@ -82,15 +99,6 @@ void RollingMap::clear_plane(int axis, int s) {
         for (int z = 0; z < 8; ++z) w[(o >> 2) + 2 * z] &= ~y_mask;
       }
     }
-  if (axis == 0) {
-    for (int z = 0; z < n.z(); ++z)
-      for (int y = 0; y < n.y(); ++y) log_odds_[static_cast<std::size_t>(s + stride_y_ * y + stride_z_ * z)] = kUnknown;
-  } else {
-    for (int z = 0; z < n.z(); ++z) {
-      float* row = &log_odds_[static_cast<std::size_t>(stride_y_ * s + stride_z_ * z)];
-      std::fill(row, row + n.x(), kUnknown);
-    }
-  }
 }
 
 bool RollingMap::center_on(double x_m, double y_m) {
@@ -105,13 +113,13 @@ bool RollingMap::center_on(double x_m, double y_m) {
     if (shift == 0) continue;
     if (!moved) ++revision_;
     moved = true;
-    if (std::abs(shift) >= n[axis]) {
-      for (int s = 0; s < n[axis]; ++s) clear_plane(axis, s);
-    } else if (shift > 0) {
-      for (int k = old_min; k < new_min[axis]; ++k) clear_plane(axis, k % n[axis]);
-    } else {
-      for (int k = new_min[axis] + n[axis]; k < old_min + n[axis]; ++k) clear_plane(axis, k % n[axis]);
-    }
+    // The keys that leave, [k0, k0 + count), as slots: at most two runs (wrapping at n).
+    const int count = std::min(std::abs(shift), n[axis]);
+    const int k0 = std::abs(shift) >= n[axis] ? 0 : (shift > 0 ? old_min : new_min[axis] + n[axis]);
+    const int s0 = k0 % n[axis];
+    const int first_run = std::min(count, n[axis] - s0);
+    clear_slots(axis, s0, first_run);
+    clear_slots(axis, 0, count - first_run);
     window_min_[axis] = new_min[axis];
   }
   return moved;

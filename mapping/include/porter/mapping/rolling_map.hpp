@@ -153,7 +153,10 @@ class RollingMap {
   }
 
  private:
-  void clear_plane(int axis, int slot_index);
+  /// Forgets slots [first, first + count) along x (axis 0) or y (axis 1).
+  void clear_slots(int axis, int first, int count);
+  /// The packed states and stamps of one such plane of slots.
+  void clear_plane_states(int axis, int slot_index);
   std::size_t block_index(int bx, int by, int bz) const {
     return static_cast<std::size_t>(bx + block_dims_.x() * (by + static_cast<std::int64_t>(block_dims_.y()) * bz));
   }
