@@ -162,7 +162,6 @@ void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_
   if (key_end == key_origin) return;
   ++stats.rays;
   const Eigen::Vector3i& n = params_.dims;
-  const std::int64_t stride[3] = {1, stride_y_, stride_z_};
   // Locals, so the marks' stores (uint64) cannot alias them.
   std::uint64_t* const touched = touched_.data();
   std::uint64_t traversed = 1;
@@ -192,29 +191,70 @@ void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_
       t_delta[i] = std::numeric_limits<double>::max();
     }
   }
-  const auto argmin = [&t_max] {
-    return t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
-  };
-  // OctoMap's loop (step the axis of the smallest tMax; stop at the end key, or once the
-  // smallest tMax passes the length), with the next axis chosen once per step: the smallest
-  // tMax after a step is the one the next step takes.
-  int dim = argmin();
+  // OctoMap's loop: step along the axis of the smallest tMax (ties: x < y ? (x < z ? x : z) :
+  // (y < z ? y : z)); stop at the end key, or once the smallest tMax passes the length; here
+  // also once the ray leaves the window. Written out per axis so that the ray's state stays in
+  // registers (indexing arrays by the axis sends every step through memory).
+  double tx = t_max[0], ty = t_max[1], tz = t_max[2];
+  const double dx = t_delta[0], dy = t_delta[1], dz = t_delta[2];
+  const double len = length;
+  int kx = key[0], ky = key[1], kz = key[2];
+  const int ex = key_end.x(), ey = key_end.y(), ez = key_end.z();
+  int lx = left[0], ly = left[1], lz = left[2];
+  int sx = s[0], sy = s[1], sz = s[2];
+  const int nx = n[0], ny = n[1], nz = n[2];
+  const int gx = step[0], gy = step[1], gz = step[2];
+  const std::int64_t ix = gx, iy = gy * stride_y_, iz = gz * stride_z_;
+  const std::int64_t wx = nx, wy = static_cast<std::int64_t>(ny) * stride_y_, wz = static_cast<std::int64_t>(nz) * stride_z_;
   for (;;) {
-    const int d = dim;
-    key[d] += step[d];
-    t_max[d] += t_delta[d];
-    if (key[0] == key_end.x() && key[1] == key_end.y() && key[2] == key_end.z()) break;
-    dim = argmin();
-    if (t_max[dim] > length) break;
-    if (--left[d] < 0) break;
-    s[d] += step[d];
-    idx += step[d] * stride[d];
-    if (s[d] == n[d]) {
-      s[d] = 0;
-      idx -= n[d] * stride[d];
-    } else if (s[d] < 0) {
-      s[d] = n[d] - 1;
-      idx += n[d] * stride[d];
+    const int dim = tx < ty ? (tx < tz ? 0 : 2) : (ty < tz ? 1 : 2);
+    if (dim != 1) {
+      if (dim == 0) {
+        kx += gx;
+        tx += dx;
+        if (kx == ex && ky == ey && kz == ez) break;
+        if (tx > len && ty > len && tz > len) break;
+        if (--lx < 0) break;
+        sx += gx;
+        idx += ix;
+        if (sx == nx) {
+          sx = 0;
+          idx -= wx;
+        } else if (sx < 0) {
+          sx = nx - 1;
+          idx += wx;
+        }
+      } else {
+        kz += gz;
+        tz += dz;
+        if (kx == ex && ky == ey && kz == ez) break;
+        if (tx > len && ty > len && tz > len) break;
+        if (--lz < 0) break;
+        sz += gz;
+        idx += iz;
+        if (sz == nz) {
+          sz = 0;
+          idx -= wz;
+        } else if (sz < 0) {
+          sz = nz - 1;
+          idx += wz;
+        }
+      }
+    } else {
+      ky += gy;
+      ty += dy;
+      if (kx == ex && ky == ey && kz == ez) break;
+      if (tx > len && ty > len && tz > len) break;
+      if (--ly < 0) break;
+      sy += gy;
+      idx += iy;
+      if (sy == ny) {
+        sy = 0;
+        idx -= wy;
+      } else if (sy < 0) {
+        sy = ny - 1;
+        idx += wy;
+      }
     }
     mark_free(idx);
     ++traversed;
