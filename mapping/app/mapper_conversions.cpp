@@ -66,7 +66,7 @@ bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out,
 }
 
 void to_map_message(const RollingMap& map, const FilteredCloud& last, const std::string& frame_id,
-                    std::int64_t map_id, porter::octomap_t& out) {
+                    std::int64_t map_id, OctomapBinaryWriter& writer, porter::octomap_t& out) {
   out.utime = last.utime_end;
   out.frame_id = frame_id;
   out.map_id = map_id;
@@ -76,7 +76,7 @@ void to_map_message(const RollingMap& map, const FilteredCloud& last, const std:
   out.robot_x_m = last.robot.base.x_m;
   out.robot_y_m = last.robot.base.y_m;
   out.robot_yaw_rad = last.robot.base.yaw_rad;
-  write_octomap_binary(map, out.data);
+  writer.write(map, out.data);
   out.num_bytes = static_cast<std::int32_t>(out.data.size());
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "porter/mapping/mapper.hpp"
+#include "porter/mapping/octomap_binary.hpp"
 #include "porter/octomap_t.hpp"
 #include "porter/point_cloud_t.hpp"
 #include "porter/robot_state_t.hpp"
@@ -16,8 +17,9 @@ namespace porter::mapping::app {
 bool to_sensor_cloud(const porter::point_cloud_t& msg, SensorCloud& out, std::string& why);
 bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out, std::string& why);
 
-/// The MAP_OCTOMAP message of `map` (binary stream), stamped with the last integrated scan.
+/// The MAP_OCTOMAP message of `map` (binary stream, written by `writer`, which follows this
+/// map), stamped with the last integrated scan.
 void to_map_message(const RollingMap& map, const FilteredCloud& last, const std::string& frame_id,
-                    std::int64_t map_id, porter::octomap_t& out);
+                    std::int64_t map_id, OctomapBinaryWriter& writer, porter::octomap_t& out);
 
 }  // namespace porter::mapping::app

@@ -94,7 +94,7 @@ bool MapperNode::step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out
 }
 
 void MapperNode::make_map(porter::octomap_t& out) {
-  to_map_message(mapper_.map(), mapper_.last(), config_.map_frame_id, ++map_id_, out);
+  to_map_message(mapper_.map(), mapper_.last(), config_.map_frame_id, ++map_id_, writer_, out);
   std::lock_guard<std::mutex> lock(mutex_);
   ++counters_.maps;
 }

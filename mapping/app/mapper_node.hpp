@@ -22,6 +22,7 @@
 
 #include "mapper_params.hpp"
 #include "porter/mapping/mapper.hpp"
+#include "porter/mapping/octomap_binary.hpp"
 #include "porter/octomap_t.hpp"
 #include "porter/point_cloud_t.hpp"
 #include "porter/robot_state_t.hpp"
@@ -58,7 +59,8 @@ class MapperNode {
 
   /// Processes at most one cloud; false when none was ready. Waits up to wait_ns for one.
   bool step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out);
-  /// Builds the map message of the current map (map_id increments).
+  /// Builds the map message of the current map (map_id increments); re-encodes only the parts
+  /// of the stream that changed since the last map (octomap_binary.hpp).
   void make_map(porter::octomap_t& out);
 
   MapperCounters counters() const;
@@ -73,6 +75,7 @@ class MapperNode {
   };
   MapperConfig config_;
   Mapper mapper_;
+  OctomapBinaryWriter writer_;  ///< keeps the map's stream between maps (worker thread only)
   mutable std::mutex mutex_;
   std::condition_variable cv_;
   std::deque<Queued> queue_;

@@ -239,5 +239,151 @@ TEST(OctomapBinary, EmptyMapIsAnEmptyStream) {
   EXPECT_TRUE(out.empty());
 }
 
+/// One random change to the map: a cloud (hits, some beyond a range limit, some ground), a move
+/// of a few voxels, a long move or a jump past the window, or (rarely) clear().
+void random_change(std::mt19937& rng, RollingMap& map, Eigen::Vector2d& at) {
+  const double res = map.resolution_m();
+  std::uniform_int_distribution<int> pick(0, 99);
+  const int what = pick(rng);
+  if (what < 55) {
+    std::uniform_real_distribution<float> jitter(-0.3f, 0.3f);
+    const Eigen::Vector3f origin(static_cast<float>(at.x()) + jitter(rng), static_cast<float>(at.y()) + jitter(rng), 0.45f);
+    IntegrateOptions opt;
+    opt.max_range_m = pick(rng) < 50 ? 1.2 : -1.0;
+    opt.ground_height_m = 0.1;
+    map.integrate(origin, sparse_points(rng, origin, res, 150 + pick(rng) * 4, 1.6, -0.3, 1.4), opt);
+  } else if (what < 85) {
+    std::uniform_int_distribution<int> step(-3, 3);
+    at += Eigen::Vector2d(step(rng), step(rng)) * res;
+    map.center_on(at.x(), at.y());
+  } else if (what < 97) {
+    std::uniform_real_distribution<double> far(-1.0, 1.0);
+    at += Eigen::Vector2d(far(rng), far(rng)) * (what < 95 ? 0.4 : 6.0);
+    map.center_on(at.x(), at.y());
+  } else {
+    map.clear();
+  }
+}
+
+/// State of every slot (0 unknown, 1 free, 2 occupied).
+std::vector<std::uint8_t> slot_states(const RollingMap& map) {
+  std::vector<std::uint8_t> s(static_cast<std::size_t>(map.dims().prod()));
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    const float v = map.raw_log_odds()[i];
+    s[i] = v != v ? 0 : (map.occupied(v) ? 2 : 1);
+  }
+  return s;
+}
+
+// Every slot whose state changed since revision r lies in a block stamped after r, and the
+// packed states equal the log-odds' (what the incremental writer relies on), over random
+// clouds, moves and clears.
+TEST(RollingMap, BlockStampsCoverEveryStateChange) {
+  RollingMapParams p;
+  p.dims = {45, 38, 21};  // not multiples of 8: partial blocks at the ends
+  p.z_min_m = -0.33;
+  RollingMap map(p);
+  std::mt19937 rng(11);
+  Eigen::Vector2d at(0.2, -0.1);
+  map.center_on(at.x(), at.y());
+  std::int64_t changed_total = 0, missed = 0;
+  for (int round = 0; round < 60; ++round) {
+    const std::vector<std::uint8_t> before = slot_states(map);
+    const std::uint64_t r = map.revision();
+    const int changes = 1 + round % 3;
+    for (int c = 0; c < changes; ++c) random_change(rng, map, at);
+    const std::vector<std::uint8_t> after = slot_states(map);
+    const Eigen::Vector3i& n = map.dims();
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      if (after[i] == before[i]) continue;
+      ++changed_total;
+      const int sx = static_cast<int>(i % static_cast<std::size_t>(n.x()));
+      const int sy = static_cast<int>((i / static_cast<std::size_t>(n.x())) % static_cast<std::size_t>(n.y()));
+      const int sz = static_cast<int>(i / (static_cast<std::size_t>(n.x()) * static_cast<std::size_t>(n.y())));
+      missed += map.block_revision(sx >> RollingMap::kBlockShift, sy >> RollingMap::kBlockShift,
+                                   sz >> RollingMap::kBlockShift) <= r;
+    }
+    // The packed states equal the log-odds' states, slot for slot.
+    std::int64_t packed_wrong = 0;
+    for (std::size_t i = 0; i < after.size(); ++i) {
+      const int sx = static_cast<int>(i % static_cast<std::size_t>(n.x()));
+      const int sy = static_cast<int>((i / static_cast<std::size_t>(n.x())) % static_cast<std::size_t>(n.y()));
+      const int sz = static_cast<int>(i / (static_cast<std::size_t>(n.x()) * static_cast<std::size_t>(n.y())));
+      const std::uint64_t* w = map.block_states(sx >> 3, sy >> 3, sz >> 3);
+      const int j = (sx & 7) + 8 * (sy & 7) + 64 * (sz & 7);
+      packed_wrong += static_cast<int>((w[j >> 5] >> (2 * (j & 31))) & 3u) != after[i];
+    }
+    EXPECT_EQ(packed_wrong, 0) << "round " << round;
+  }
+  EXPECT_GT(changed_total, 10000);
+  EXPECT_EQ(missed, 0);
+}
+
+// The incremental writer gives the full encode's bytes after every kind of change, with writes
+// skipped between changes (several moves between two writes included), and re-encodes nothing
+// when nothing changed.
+TEST(OctomapBinaryWriter, EqualsTheFullEncodeOverRandomUpdatesAndMoves) {
+  const Eigen::Vector3i sizes[] = {{70, 50, 24}, {64, 48, 16}, {41, 67, 27}};
+  for (int trial = 0; trial < 3; ++trial) {
+    RollingMapParams p;
+    p.dims = sizes[trial];
+    p.z_min_m = trial == 1 ? 0.0 : -0.27;
+    RollingMap map(p);
+    std::mt19937 rng(200 + trial);
+    Eigen::Vector2d at(1.37 * trial, -0.71 * trial);
+    map.center_on(at.x(), at.y());
+    OctomapBinaryWriter writer;
+    std::vector<std::uint8_t> full, inc;
+    int writes = 0, partial = 0, mismatches = 0;
+    std::size_t max_size = 0;
+    std::uniform_int_distribution<int> pick(0, 99);
+    for (int step = 0; step < 150; ++step) {
+      random_change(rng, map, at);
+      if (pick(rng) < 40) continue;  // no map this time
+      write_octomap_binary(map, full);
+      writer.write(map, inc);
+      ++writes;
+      mismatches += inc != full;
+      max_size = std::max(max_size, full.size());
+      partial += writer.last_stats().bricks_encoded < writer.last_stats().bricks;
+    }
+    EXPECT_EQ(mismatches, 0) << trial;
+    EXPECT_GT(writes, 50);
+    EXPECT_GT(max_size, 1000u) << trial;
+    EXPECT_GT(partial, writes / 2) << trial;  // the cache is used
+    // The last change may not have been written yet: write it, then once more with no change.
+    write_octomap_binary(map, full);
+    writer.write(map, inc);
+    EXPECT_EQ(inc, full);
+    writer.write(map, inc);
+    EXPECT_EQ(writer.last_stats().bricks_encoded, 0) << trial;
+    EXPECT_EQ(inc, full);
+
+    // A second writer on the same map starts from nothing; a writer moved to another map starts
+    // over.
+    OctomapBinaryWriter other;
+    other.write(map, inc);
+    EXPECT_EQ(other.last_stats().bricks_encoded, other.last_stats().bricks);
+    EXPECT_EQ(inc, full);
+    RollingMap second(p);
+    writer.write(second, inc);
+    EXPECT_TRUE(inc.empty());
+
+    // And the stream is stock OctoMap's for the same voxels.
+    octomap::OcTree tree(p.resolution_m);
+    map.for_each_known([&](const Eigen::Vector3i& k, float v) {
+      tree.setNodeValue(octomap::OcTreeKey(static_cast<octomap::key_type>(k.x()), static_cast<octomap::key_type>(k.y()),
+                                           static_cast<octomap::key_type>(k.z())),
+                        v);
+    });
+    tree.toMaxLikelihood();
+    tree.prune();
+    std::ostringstream stock;
+    tree.writeBinaryData(stock);
+    writer.write(map, inc);
+    EXPECT_EQ(std::string(inc.begin(), inc.end()), stock.str()) << trial;
+  }
+}
+
 }  // namespace
 }  // namespace porter::mapping

@@ -24,7 +24,15 @@
 // the space above it); every other point is a hit. Endpoints outside the window give only the
 // free part of their ray inside the window.
 //
-// Frames and units: world frame W, metres. Memory: 4.25 bytes per voxel of the window.
+// Change tracking (for readers that re-encode only what changed, octomap_binary.hpp): slots are
+// grouped in blocks of 8 x 8 x 8 (slot / 8 per axis; the last block of an axis may be partial).
+// Every mutating call (integrate, a center_on that moves, clear) raises revision(), and stamps
+// with it every block in which a voxel's state (unknown / free / occupied) may have changed.
+// A block whose stamp is <= a revision r held no state change since r. The states themselves
+// are also kept packed, 2 bits a voxel, block by block (block_states()), so a reader of a block
+// touches 128 bytes instead of 512 scattered floats.
+//
+// Frames and units: world frame W, metres. Memory: 4.5 bytes per voxel of the window.
 // Thread-safety: none (one thread integrates; const queries may run while nothing writes).
 
 #include <cmath>
@@ -130,8 +138,30 @@ class RollingMap {
   }
   const float* raw_log_odds() const { return log_odds_.data(); }
 
+  /// Change tracking (see the header comment).
+  static constexpr int kBlockShift = 3;
+  std::uint64_t revision() const { return revision_; }
+  const Eigen::Vector3i& block_dims() const { return block_dims_; }
+  /// Revision of the last possible state change in block (bx, by, bz) (slot >> kBlockShift).
+  std::uint64_t block_revision(int bx, int by, int bz) const { return block_rev_[block_index(bx, by, bz)]; }
+  /// The states of block (bx, by, bz): kBlockWords words, voxel (x, y, z) of the block (slot
+  /// & 7 per axis) at bits 2 i, 2 i + 1 with i = x + 8 y + 64 z; 0 unknown, 1 free, 2 occupied
+  /// (VoxelState). Slots past the window's end in a partial block read unknown.
+  static constexpr int kBlockWords = 16;
+  const std::uint64_t* block_states(int bx, int by, int bz) const {
+    return &states_[block_index(bx, by, bz) * kBlockWords];
+  }
+
  private:
-  void clear_plane(int axis, int slot_index);
+  /// Forgets slots [first, first + count) along x (axis 0) or y (axis 1).
+  void clear_slots(int axis, int first, int count);
+  /// The packed states and stamps of one such plane of slots.
+  void clear_plane_states(int axis, int slot_index);
+  std::size_t block_index(int bx, int by, int bz) const {
+    return static_cast<std::size_t>(bx + block_dims_.x() * (by + static_cast<std::int64_t>(block_dims_.y()) * bz));
+  }
+  /// Records a slot's new state (packed) and stamps its block with the current revision.
+  void set_state(std::int64_t slot, int state);
   /// Marks the voxels of the ray origin -> end (end voxel excluded) as free in this cloud.
   void cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_origin, const Eigen::Vector3f& end,
             IntegrateStats& stats);
@@ -146,6 +176,10 @@ class RollingMap {
   std::vector<std::int64_t> occupied_list_, end_list_;
   std::vector<Eigen::Vector3f> ray_ends_;
   float hit_log_, miss_log_, clamp_min_log_, clamp_max_log_, occupancy_log_;
+  std::uint64_t revision_ = 0;
+  Eigen::Vector3i block_dims_;
+  std::vector<std::uint64_t> block_rev_;
+  std::vector<std::uint64_t> states_;  ///< packed states, block by block
 };
 
 template <class Fn>
