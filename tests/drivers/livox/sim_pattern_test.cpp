@@ -1,5 +1,6 @@
 // The simulated MID-360's scan pattern and the Embree ray casting against slow references.
 #include <cmath>
+#include <limits>
 #include <random>
 #include <set>
 
@@ -224,6 +225,31 @@ TEST(RayScene, GroundPlaneSpheresAndReplacedObstacles) {
   // Nothing within [t_near, t_far]: no hit.
   EXPECT_FALSE(rays.cast(o, down, 0.1f, 1.0f).hit());
   EXPECT_FALSE(rays.cast(o, Eigen::Vector3f::UnitZ(), 0.1f, 40.0f).hit());
+}
+
+// A ray Embree would call invalid (non-finite origin or direction, negative near distance) is no
+// return, not an abort: the robot's pose can go non-finite upstream (a scripted drive that leaves
+// the scene's lanes did) and the simulator must go on.
+TEST(RayScene, InvalidRaysGiveNoReturnInsteadOfAborting) {
+  const RobotModel robot = test::robot_with("t_bar");
+  RayScene rays;
+  CollisionShape ball;
+  ball.geometry = Sphere{0.25};
+  ball.T_parent_shape.translation() = Eigen::Vector3d(0.5, 0.0, 0.5);
+  rays.set_obstacles({ball});
+  rays.set_robot(robot);
+  ASSERT_TRUE(rays.ok()) << rays.error();
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const Eigen::Vector3f o(0.0f, 0.0f, 1.0f);
+  const Eigen::Vector3f down = Eigen::Vector3f(1.0f, 0.0f, -1.0f).normalized();
+  ASSERT_TRUE(rays.cast(o, down, 0.1f, 40.0f).hit());
+  EXPECT_FALSE(rays.cast(Eigen::Vector3f(nan, 0.0f, 1.0f), down, 0.1f, 40.0f).hit());
+  EXPECT_FALSE(rays.cast(Eigen::Vector3f(inf, 0.0f, 1.0f), down, 0.1f, 40.0f).hit());
+  EXPECT_FALSE(rays.cast(o, Eigen::Vector3f(nan, nan, nan), 0.1f, 40.0f).hit());
+  EXPECT_FALSE(rays.cast(o, down, -1.0f, 40.0f).hit());
+  EXPECT_FALSE(rays.cast(o, down, nan, 40.0f).hit());
+  EXPECT_FALSE(rays.cast_world(Eigen::Vector3f(nan, nan, nan), down, 0.1f, 40.0f).hit());
 }
 
 }  // namespace

@@ -158,7 +158,13 @@ struct Intersection {
 Intersection intersect(RTCScene scene, const Eigen::Vector3f& o, const Eigen::Vector3f& d,
                        float t_near, float t_far) {
   Intersection result;
-  if (scene == nullptr || !(t_far >= t_near)) return result;
+  // Embree asserts (aborts) on a ray it calls invalid: a non-finite origin or direction, a
+  // negative or non-finite near distance. A pose gone non-finite upstream gives no return here
+  // instead of ending the simulator.
+  if (scene == nullptr || !(t_far >= t_near) || !(t_near >= 0.0f) || !std::isfinite(t_near) ||
+      !o.allFinite() || !d.allFinite()) {
+    return result;
+  }
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
