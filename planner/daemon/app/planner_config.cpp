@@ -36,7 +36,8 @@ PlannerConfig load_planner_config(const std::string& path) {
   }
 
   const auto map = cfg.get("map");
-  map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb"});
+  map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb",
+                   "unknown_below_occupied"});
   out.map.resolution_m = map.get("resolution_m").as_positive();
   out.loop.max_map_age_s = map.get("max_age_s").as_positive();
   out.map.margin_m = map.get("margin_m").as_nonnegative();
@@ -46,6 +47,9 @@ PlannerConfig load_planner_config(const std::string& path) {
   const int max_mb = map.get("max_mb").as_int();
   if (max_mb < 1 || max_mb > 1024) map.get("max_mb").fail("must be in [1, 1024]");
   out.map.max_bytes = static_cast<std::size_t>(max_mb) << 20;
+  const std::string below = map.get("unknown_below_occupied").as_string();
+  if (below != "occupied" && below != "free") map.get("unknown_below_occupied").fail("must be 'occupied' or 'free'");
+  out.map.fill_unknown_below = below == "occupied";
 
   const auto state = cfg.get("state");
   state.expect_keys({"max_age_s"});

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "porter/msg/trajectory_msg.hpp"
@@ -179,7 +180,45 @@ GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vec
     return c;
   }
   c.grid = planner::occupancy_from_octomap(tree, Eigen::AlignedBox3d(lo, hi));
+  if (params.fill_unknown_below) fill_unknown_below_occupied(tree, *c.grid);
   return c;
+}
+
+std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyGrid& grid) {
+  // The voxels the tree knows as free, on the grid (leaves may be larger than a voxel).
+  const double res = grid.resolution_m();
+  const Eigen::Vector3i& n = grid.dims();
+  const Eigen::Vector3d& lo = grid.origin_W();
+  OccupancyGrid free_W(lo, res, n);
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (tree.isNodeOccupied(*it)) continue;
+    const double half = 0.5 * it.getSize();
+    const Eigen::Vector3d c(it.getX(), it.getY(), it.getZ());
+    Eigen::Vector3i a, b;
+    for (int k = 0; k < 3; ++k) {
+      a[k] = std::max(0, static_cast<int>(std::ceil((c[k] - half - lo[k]) / res - 0.5)));
+      b[k] = std::min(n[k] - 1, static_cast<int>(std::floor((c[k] + half - lo[k]) / res - 0.5)));
+    }
+    for (int z = a.z(); z <= b.z(); ++z)
+      for (int y = a.y(); y <= b.y(); ++y)
+        for (int x = a.x(); x <= b.x(); ++x) free_W.set(x, y, z);
+  }
+  std::int64_t marked = 0;
+  for (int y = 0; y < n.y(); ++y)
+    for (int x = 0; x < n.x(); ++x) {
+      bool below_obstacle = false;
+      for (int z = n.z() - 1; z >= 0; --z) {
+        if (grid.occupied(x, y, z)) {
+          below_obstacle = true;
+        } else if (free_W.occupied(x, y, z)) {
+          below_obstacle = false;
+        } else if (below_obstacle) {
+          grid.set(x, y, z);
+          ++marked;
+        }
+      }
+    }
+  return marked;
 }
 
 planner_status_t make_status(const planner_daemon::Report& r, std::int64_t utime) {

@@ -21,7 +21,11 @@ std::unique_ptr<pipeline::Planner> make_planner(const PlannerConfig& config, con
   const RobotModel bare = load_robot_model(config.robot_file);
   const RobotModel model =
       payload_id == "none" ? bare : attach_payload(bare, load_payload(config.payloads.at(payload_id)));
-  return std::make_unique<pipeline::Planner>(model, config.settings);
+  auto planner = std::make_unique<pipeline::Planner>(model, config.settings);
+  // The back-end's robot side (per-link SDFs, ~1 s) is built now, not inside the first plan that
+  // needs the back-end: a re-plan must finish before its hand-off time.
+  planner->prepare_backend();
+  return planner;
 }
 
 PlannerNode::PlannerNode(LcmBus& bus, PlannerConfig config, std::function<std::int64_t()> clock)

@@ -34,6 +34,22 @@ std::vector<StageTiming> stage_timings(const pipeline::PlanResult& r) {
 
 }  // namespace
 
+bool retryable(planner::Status s) {
+  switch (s) {
+    case planner::Status::kTimeout:
+    case planner::Status::kNoPath:
+    case planner::Status::kInCollision:
+    case planner::Status::kIterationLimit:
+    case planner::Status::kConvergedWithWarning:
+    case planner::Status::kNumericalFailure:
+    case planner::Status::kOptimizerFailed:
+    case planner::Status::kConstraintViolation:
+      return true;
+    default:
+      return false;
+  }
+}
+
 void GoalLoopParams::validate() const {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(name) + " must be > 0");
@@ -140,6 +156,7 @@ Outcome GoalLoop::on_goal(const Goal& goal, const std::optional<MeasuredState>& 
   Outcome out;
   goal_ = goal;
   attempts_ = 0;
+  retry_from_rest_ = false;
   const std::int64_t now = clock_();
   auto refuse = [&](GoalLoopState s, const std::string& why) {
     out.reports.push_back(report(s, why));
@@ -170,6 +187,16 @@ Outcome GoalLoop::on_goal(const Goal& goal, const std::optional<MeasuredState>& 
 Outcome GoalLoop::on_tick(const std::optional<MeasuredState>& state) {
   Outcome out;
   const std::int64_t now = clock_();
+  if (retry_from_rest_ && goal_ && !active_executing(now)) {
+    const std::string old = map_age_problem(map_utime_, now, params_.max_map_age_s);
+    const std::string bad = state_problem(state, now);
+    if (!old.empty() || !bad.empty()) return out;  // wait for a fresh map and state
+    retry_from_rest_ = false;
+    Attempt a;
+    a.start = pipeline::StartState::at_rest(state->config);
+    out.reports.push_back(report(GoalLoopState::kPlanning, "re-plan from rest after a failed plan"));
+    return plan(a, std::move(out));
+  }
   if (!active_ || active_executing(now) || !goal_) return out;
   if (!active_->braking) {
     out.reports.push_back(report(GoalLoopState::kIdle, "goal " + std::to_string(goal_->goal_id) +
@@ -228,6 +255,16 @@ Outcome GoalLoop::plan(const Attempt& attempt, Outcome out) {
     if (attempt.handoff_s && active_executing(now)) {
       const double t_brake = std::max(0.0, active_time_s(now)) + params_.handoff.latency_s;
       return brake(t_brake, "the plan from the hand-off failed", std::move(out));
+    }
+    // A plan from rest that the search or the optimizers did not finish (a randomized front-end,
+    // budgets) is tried again with the next seed on the next tick, while attempts remain.
+    if (!attempt.handoff_s && retryable(r.status) && attempts_ < params_.max_attempts) {
+      rep.state = GoalLoopState::kReplanning;
+      rep.reason = "plan failed: " + failure + "; planning again from rest (attempt " + std::to_string(attempts_ + 1) +
+                   " of " + std::to_string(params_.max_attempts) + ")";
+      out.reports.back() = rep;
+      retry_from_rest_ = true;
+      return out;
     }
     goal_.reset();
     return out;
