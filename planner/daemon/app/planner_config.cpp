@@ -56,10 +56,11 @@ PlannerConfig load_planner_config(const std::string& path) {
   out.loop.max_state_age_s = state.get("max_age_s").as_positive();
 
   const auto replan = cfg.get("replan");
-  replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed"});
+  replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed", "arrival_tolerance_m"});
   out.loop.handoff.lead_s = replan.get("lead_s").as_positive();
   out.loop.handoff.latency_s = replan.get("latency_s").as_positive();
   out.loop.collision_step_s = replan.get("collision_step_s").as_positive();
+  out.loop.arrival_tolerance_m = replan.get("arrival_tolerance_m").as_positive();
   out.loop.max_attempts = replan.get("max_attempts").as_int();
   if (out.loop.max_attempts < 1) replan.get("max_attempts").fail("must be >= 1");
   const int seed = replan.get("seed").as_int();

@@ -203,6 +203,15 @@ std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyG
       for (int y = a.y(); y <= b.y(); ++y)
         for (int x = a.x(); x <= b.x(); ++x) free_W.set(x, y, z);
   }
+  // Known free within kFillGapVoxels on both sides along x, or along y.
+  auto gap = [&](int x, int y, int z) {
+    auto side = [&](int dx, int dy) {
+      for (int k = 1; k <= kFillGapVoxels; ++k)
+        if (free_W.occupied(x + k * dx, y + k * dy, z)) return true;
+      return false;
+    };
+    return (side(1, 0) && side(-1, 0)) || (side(0, 1) && side(0, -1));
+  };
   std::int64_t marked = 0;
   for (int y = 0; y < n.y(); ++y)
     for (int x = 0; x < n.x(); ++x) {
@@ -210,7 +219,7 @@ std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyG
       for (int z = n.z() - 1; z >= 0; --z) {
         if (grid.occupied(x, y, z)) {
           below_obstacle = true;
-        } else if (free_W.occupied(x, y, z)) {
+        } else if (free_W.occupied(x, y, z) || (below_obstacle && gap(x, y, z))) {
           below_obstacle = false;
         } else if (below_obstacle) {
           grid.set(x, y, z);

@@ -65,10 +65,15 @@ struct GridConversion {
 /// and with params.fill_unknown_below the unknown voxels below them (fill_unknown_below_occupied).
 GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params);
 
+/// An unknown voxel with space known free within this many voxels on both sides along x, or on
+/// both sides along y, is a gap in seen space (e.g. the shadow of the payload's stem), not the
+/// unseen part of an obstacle: the fill stops there.
+inline constexpr int kFillGapVoxels = 3;
+
 /// Marks as occupied every voxel of `grid` that the tree does not know (neither occupied nor
 /// free) and that lies directly below an occupied voxel of the grid, through a run of unknown
-/// voxels: in each column, from an occupied voxel down to the first voxel the tree knows as free,
-/// or to the grid's floor. Why: the MID-360 sees -7..52 degrees of elevation and the robot's own
+/// voxels: in each column, from an occupied voxel down to the first voxel the tree knows as free
+/// or that is a gap (kFillGapVoxels), or to the grid's floor. Why: the MID-360 sees -7..52 degrees of elevation and the robot's own
 /// arm blocks part of its view, so the lower parts of walls, posts and a deck's front near the
 /// robot are often unseen while their upper parts are mapped; an obstacle is taken to continue
 /// downwards into what was not seen, never into space seen free (an opening under a deck that

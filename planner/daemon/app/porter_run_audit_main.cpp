@@ -317,12 +317,13 @@ int main(int argc, char** argv) {
           }
     if (getenv("AUDIT_DEBUG") && m.map_id == std::atoi(getenv("AUDIT_DEBUG"))) {
       const double xs = std::atof(getenv("AUDIT_X"));
-      std::printf("\nslice x=%.3f (rows z from 1.6 down, columns y -1..1): # occupied, . free, space unknown\n", xs);
+      std::printf("\nslice x=%.3f (rows z from 1.6 down, columns y -1..1): # occupied, . free, space unknown, F unknown planned as occupied\n", xs);
       for (double z = 1.575; z > 0.5; z -= 0.05) {
         std::printf("z %.3f |", z);
         for (double y = -0.975; y < 1.0; y += 0.05) {
           const octomap::OcTreeNode* nd = m.tree->search(xs, y, z);
-          std::printf("%c", nd == nullptr ? ' ' : m.tree->isNodeOccupied(nd) ? '#' : '.');
+          const bool filled = g->occupied_at(Eigen::Vector3d(xs, y, z));
+          std::printf("%c", nd == nullptr ? (filled ? 'F' : ' ') : m.tree->isNodeOccupied(nd) ? '#' : '.');
         }
         std::printf("|\n");
       }

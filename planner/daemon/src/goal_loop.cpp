@@ -62,6 +62,7 @@ void GoalLoopParams::validate() const {
   positive(handoff.braking.joint_decel_radps2, "handoff.braking.joint_decel_radps2");
   positive(handoff.braking.min_duration_s, "handoff.braking.min_duration_s");
   positive(collision_step_s, "collision_step_s");
+  positive(arrival_tolerance_m, "arrival_tolerance_m");
   if (handoff.latency_s >= handoff.lead_s) throw std::invalid_argument("handoff.latency_s must be < handoff.lead_s");
   if (max_attempts < 1) throw std::invalid_argument("max_attempts must be >= 1");
 }
@@ -199,6 +200,21 @@ Outcome GoalLoop::on_tick(const std::optional<MeasuredState>& state) {
   }
   if (!active_ || active_executing(now) || !goal_) return out;
   if (!active_->braking) {
+    // The trajectory has ended; a robot left short of the goal (the tracker stopped on a fault,
+    // the base was held) is planned again from where it stands.
+    const double off_m = state && state->valid ? std::hypot(state->config.base.x_m - goal_->spec.base.x_m,
+                                                            state->config.base.y_m - goal_->spec.base.y_m)
+                                               : 0.0;
+    if (off_m > params_.arrival_tolerance_m && attempts_ < params_.max_attempts) {
+      const std::string old = map_age_problem(map_utime_, now, params_.max_map_age_s);
+      if (!old.empty() || !state_problem(state, now).empty()) return out;  // wait for a fresh map and state
+      Attempt a;
+      a.start = pipeline::StartState::at_rest(state->config);
+      out.reports.push_back(report(GoalLoopState::kPlanning, fmt("re-plan from rest: the trajectory ended with the "
+                                                                 "robot %.2f m from the goal", off_m)));
+      out.log.push_back(out.reports.back().reason);
+      return plan(a, std::move(out));
+    }
     out.reports.push_back(report(GoalLoopState::kIdle, "goal " + std::to_string(goal_->goal_id) +
                                                           ": trajectory executed to its end"));
     out.log.push_back(out.reports.back().reason);

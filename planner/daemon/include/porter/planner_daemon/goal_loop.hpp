@@ -26,7 +26,9 @@
 //     (retryable(): timeout, no path, rejected by the acceptance test, optimizer failures) is
 //     reported as kReplanning and tried again from rest on the next on_tick() with the next
 //     seed, within the same max_attempts. Invalid goals, starts and inputs end the goal.
-//   - The goal is done when a (non-brake) trajectory to it has been executed to its end.
+//   - The goal is done when a (non-brake) trajectory to it has been executed to its end with the
+//     measured base within arrival_tolerance_m of the goal; farther away (the tracker stopped on a
+//     fault, the base was held), the next on_tick() plans again from rest while attempts remain.
 //   - A goal in collision, an invalid start and every other pipeline failure are reported with
 //     the pipeline's message.
 // Times: *_utime are µs on the messages' clock; `clock` returns that clock's now (plans take
@@ -54,6 +56,9 @@ struct GoalLoopParams {
   HandoffParams handoff;          ///< lead (>= the pipeline's worst-case plan time), latency, braking
   double collision_step_s = 0.02; ///< resolution of the first-collision time, s (> 0)
   int max_attempts = 3;           ///< plans per goal (the first + re-plans from rest after brakes)
+  /// A trajectory that ended with the measured base farther than this from the goal is followed
+  /// by a plan from rest (while attempts remain), m (> 0).
+  double arrival_tolerance_m = 0.3;
   std::uint64_t seed = 1;         ///< seed of the first plan; later plans use seed + n
   const planner::CancelFlag* cancel = nullptr;  ///< ends a running plan when set (optional)
 
