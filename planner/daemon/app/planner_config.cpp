@@ -37,7 +37,7 @@ PlannerConfig load_planner_config(const std::string& path) {
 
   const auto map = cfg.get("map");
   map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb",
-                   "unknown_below_occupied"});
+                   "unknown_below_occupied", "robot_clear_radius_m"});
   out.map.resolution_m = map.get("resolution_m").as_positive();
   out.loop.max_map_age_s = map.get("max_age_s").as_positive();
   out.map.margin_m = map.get("margin_m").as_nonnegative();
@@ -50,6 +50,7 @@ PlannerConfig load_planner_config(const std::string& path) {
   const std::string below = map.get("unknown_below_occupied").as_string();
   if (below != "occupied" && below != "free") map.get("unknown_below_occupied").fail("must be 'occupied' or 'free'");
   out.map.fill_unknown_below = below == "occupied";
+  out.map.fill_clear_radius_m = map.get("robot_clear_radius_m").as_nonnegative();
 
   const auto state = cfg.get("state");
   state.expect_keys({"max_age_s"});

@@ -24,6 +24,8 @@ struct MapParams {
   /// Unknown voxels directly below an occupied one, down to the first free voxel (or the
   /// ground), count as occupied (fill_unknown_below_occupied, planner_messages.hpp).
   bool fill_unknown_below = true;
+  /// ...except in columns this close to the robot, m (its own body hides them).
+  double fill_clear_radius_m = 1.2;
 };
 
 struct PlannerConfig {

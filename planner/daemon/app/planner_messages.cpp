@@ -146,7 +146,8 @@ TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id,
   return c;
 }
 
-GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params) {
+GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params,
+                       const Eigen::Vector2d* robot_W) {
   GridConversion c;
   Eigen::AlignedBox3d box;
   if (tree.size() > 0) {
@@ -180,11 +181,12 @@ GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vec
     return c;
   }
   c.grid = planner::occupancy_from_octomap(tree, Eigen::AlignedBox3d(lo, hi));
-  if (params.fill_unknown_below) fill_unknown_below_occupied(tree, *c.grid);
+  if (params.fill_unknown_below) fill_unknown_below_occupied(tree, *c.grid, robot_W, params.fill_clear_radius_m);
   return c;
 }
 
-std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyGrid& grid) {
+std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyGrid& grid, const Eigen::Vector2d* robot_W,
+                                         double clear_radius_m) {
   // The voxels the tree knows as free, on the grid (leaves may be larger than a voxel).
   const double res = grid.resolution_m();
   const Eigen::Vector3i& n = grid.dims();
@@ -215,6 +217,7 @@ std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyG
   std::int64_t marked = 0;
   for (int y = 0; y < n.y(); ++y)
     for (int x = 0; x < n.x(); ++x) {
+      if (robot_W != nullptr && (grid.voxel_center_W(x, y, 0).head<2>() - *robot_W).norm() < clear_radius_m) continue;
       bool below_obstacle = false;
       for (int z = n.z() - 1; z >= 0; --z) {
         if (grid.occupied(x, y, z)) {

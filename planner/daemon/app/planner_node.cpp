@@ -161,7 +161,9 @@ bool PlannerNode::regrid(const std::optional<planner_daemon::Goal>& goal) {
   // updates) and a re-plan to that goal finds it inside.
   if (goal_xy_) keep.push_back(*goal_xy_);
   const double t0 = rt::mono_s();
-  GridConversion g = to_grid(*tree_, keep, config_.map);
+  std::optional<Eigen::Vector2d> robot;
+  if (state) robot = Eigen::Vector2d(state->config.base.x_m, state->config.base.y_m);
+  GridConversion g = to_grid(*tree_, keep, config_.map, robot ? &*robot : nullptr);
   if (!g.grid) {
     rt::log_warn("map refused: " + g.error);
     status(GoalLoopState::kFailed, goal ? goal->goal_id : -1, "map refused: " + g.error);

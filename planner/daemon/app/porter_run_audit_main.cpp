@@ -285,7 +285,7 @@ int main(int argc, char** argv) {
   auto grid_of = [&](const LoggedMap& m) {
     std::vector<Eigen::Vector2d> keep{m.robot_xy};
     if (goal_xy) keep.push_back(*goal_xy);
-    return porter::planner_app::to_grid(*m.tree, keep, config.map).grid;
+    return porter::planner_app::to_grid(*m.tree, keep, config.map, &m.robot_xy).grid;
   };
 
   // Per map: each obstacle's voxels as the map holds them.

@@ -188,6 +188,13 @@ TEST(PlannerMessages, UnknownBelowOccupiedIsFilledDownToSpaceSeenFree) {
   EXPECT_FALSE(at(*filled.grid, 1.025, 1.225, 0.725));  // the shadow strip inside it is a gap
   EXPECT_FALSE(at(*filled.grid, 1.025, 1.125, 0.225));  // and below it (not adjacent to the deck)
   EXPECT_FALSE(at(*filled.grid, 2.025, 0.225, 0.525));  // nothing above: stays as it was
+  // Near the robot the columns stay as they are (its own body hides them).
+  const Eigen::Vector2d robot(1.0, 0.0);
+  p.fill_clear_radius_m = 0.5;
+  const GridConversion near = to_grid(tree, {{0.0, 0.0}}, p, &robot);
+  ASSERT_TRUE(near.grid);
+  EXPECT_FALSE(at(*near.grid, 1.025, 0.225, 0.525));
+  EXPECT_TRUE(at(*near.grid, 1.025, 0.225, 1.525));
 }
 
 TEST(PlannerMessages, FillUnknownBelowOccupiedEqualsTheColumnWalkOnRandomTrees) {
