@@ -36,7 +36,8 @@ PlannerConfig load_planner_config(const std::string& path) {
   }
 
   const auto map = cfg.get("map");
-  map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb"});
+  map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb",
+                   "unknown_below_occupied", "robot_clear_radius_m"});
   out.map.resolution_m = map.get("resolution_m").as_positive();
   out.loop.max_map_age_s = map.get("max_age_s").as_positive();
   out.map.margin_m = map.get("margin_m").as_nonnegative();
@@ -46,16 +47,21 @@ PlannerConfig load_planner_config(const std::string& path) {
   const int max_mb = map.get("max_mb").as_int();
   if (max_mb < 1 || max_mb > 1024) map.get("max_mb").fail("must be in [1, 1024]");
   out.map.max_bytes = static_cast<std::size_t>(max_mb) << 20;
+  const std::string below = map.get("unknown_below_occupied").as_string();
+  if (below != "occupied" && below != "free") map.get("unknown_below_occupied").fail("must be 'occupied' or 'free'");
+  out.map.fill_unknown_below = below == "occupied";
+  out.map.fill_clear_radius_m = map.get("robot_clear_radius_m").as_nonnegative();
 
   const auto state = cfg.get("state");
   state.expect_keys({"max_age_s"});
   out.loop.max_state_age_s = state.get("max_age_s").as_positive();
 
   const auto replan = cfg.get("replan");
-  replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed"});
+  replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed", "arrival_tolerance_m"});
   out.loop.handoff.lead_s = replan.get("lead_s").as_positive();
   out.loop.handoff.latency_s = replan.get("latency_s").as_positive();
   out.loop.collision_step_s = replan.get("collision_step_s").as_positive();
+  out.loop.arrival_tolerance_m = replan.get("arrival_tolerance_m").as_positive();
   out.loop.max_attempts = replan.get("max_attempts").as_int();
   if (out.loop.max_attempts < 1) replan.get("max_attempts").fail("must be >= 1");
   const int seed = replan.get("seed").as_int();

@@ -21,6 +21,11 @@ struct MapParams {
   double min_height_m = 2.0;   ///< the grid reaches at least this high above z = 0, m
   double max_voxels = 5e7;     ///< a map needing a larger grid is refused
   std::size_t max_bytes = 64u << 20;  ///< largest octomap_t data accepted, bytes
+  /// Unknown voxels directly below an occupied one, down to the first free voxel (or the
+  /// ground), count as occupied (fill_unknown_below_occupied, planner_messages.hpp).
+  bool fill_unknown_below = true;
+  /// ...except in columns this close to the robot, m (its own body hides them).
+  double fill_clear_radius_m = 1.2;
 };
 
 struct PlannerConfig {

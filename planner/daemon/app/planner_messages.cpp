@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <sstream>
 
 #include "porter/msg/trajectory_msg.hpp"
@@ -145,7 +146,8 @@ TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id,
   return c;
 }
 
-GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params) {
+GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params,
+                       const Eigen::Vector2d* robot_W) {
   GridConversion c;
   Eigen::AlignedBox3d box;
   if (tree.size() > 0) {
@@ -179,7 +181,56 @@ GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vec
     return c;
   }
   c.grid = planner::occupancy_from_octomap(tree, Eigen::AlignedBox3d(lo, hi));
+  if (params.fill_unknown_below) fill_unknown_below_occupied(tree, *c.grid, robot_W, params.fill_clear_radius_m);
   return c;
+}
+
+std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyGrid& grid, const Eigen::Vector2d* robot_W,
+                                         double clear_radius_m) {
+  // The voxels the tree knows as free, on the grid (leaves may be larger than a voxel).
+  const double res = grid.resolution_m();
+  const Eigen::Vector3i& n = grid.dims();
+  const Eigen::Vector3d& lo = grid.origin_W();
+  OccupancyGrid free_W(lo, res, n);
+  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
+    if (tree.isNodeOccupied(*it)) continue;
+    const double half = 0.5 * it.getSize();
+    const Eigen::Vector3d c(it.getX(), it.getY(), it.getZ());
+    Eigen::Vector3i a, b;
+    for (int k = 0; k < 3; ++k) {
+      a[k] = std::max(0, static_cast<int>(std::ceil((c[k] - half - lo[k]) / res - 0.5)));
+      b[k] = std::min(n[k] - 1, static_cast<int>(std::floor((c[k] + half - lo[k]) / res - 0.5)));
+    }
+    for (int z = a.z(); z <= b.z(); ++z)
+      for (int y = a.y(); y <= b.y(); ++y)
+        for (int x = a.x(); x <= b.x(); ++x) free_W.set(x, y, z);
+  }
+  // Known free within kFillGapVoxels on both sides along x, or along y.
+  auto gap = [&](int x, int y, int z) {
+    auto side = [&](int dx, int dy) {
+      for (int k = 1; k <= kFillGapVoxels; ++k)
+        if (free_W.occupied(x + k * dx, y + k * dy, z)) return true;
+      return false;
+    };
+    return (side(1, 0) && side(-1, 0)) || (side(0, 1) && side(0, -1));
+  };
+  std::int64_t marked = 0;
+  for (int y = 0; y < n.y(); ++y)
+    for (int x = 0; x < n.x(); ++x) {
+      if (robot_W != nullptr && (grid.voxel_center_W(x, y, 0).head<2>() - *robot_W).norm() < clear_radius_m) continue;
+      bool below_obstacle = false;
+      for (int z = n.z() - 1; z >= 0; --z) {
+        if (grid.occupied(x, y, z)) {
+          below_obstacle = true;
+        } else if (free_W.occupied(x, y, z) || (below_obstacle && gap(x, y, z))) {
+          below_obstacle = false;
+        } else if (below_obstacle) {
+          grid.set(x, y, z);
+          ++marked;
+        }
+      }
+    }
+  return marked;
 }
 
 planner_status_t make_status(const planner_daemon::Report& r, std::int64_t utime) {

@@ -61,8 +61,29 @@ struct GridConversion {
 };
 /// The planning grid of a tree: its bounding box, grown to hold every point of `keep_W` (robot,
 /// goal) with params.margin_m, from z = 0 to at least min_height_m, rounded outwards to
-/// block_m; refused when it needs more than max_voxels.
-GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params);
+/// block_m; refused when it needs more than max_voxels. Occupied: the tree's occupied voxels,
+/// and with params.fill_unknown_below the unknown voxels below them (fill_unknown_below_occupied),
+/// outside params.fill_clear_radius_m of robot_W (the robot's base position, when known).
+GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params,
+                       const Eigen::Vector2d* robot_W = nullptr);
+
+/// An unknown voxel with space known free within this many voxels on both sides along x, or on
+/// both sides along y, is a gap in seen space (e.g. the shadow of the payload's stem), not the
+/// unseen part of an obstacle: the fill stops there.
+inline constexpr int kFillGapVoxels = 3;
+
+/// Marks as occupied every voxel of `grid` that the tree does not know (neither occupied nor
+/// free) and that lies directly below an occupied voxel of the grid, through a run of unknown
+/// voxels: in each column, from an occupied voxel down to the first voxel the tree knows as free
+/// or that is a gap (kFillGapVoxels), or to the grid's floor. Why: the MID-360 sees -7..52 degrees of elevation and the robot's own
+/// arm blocks part of its view, so the lower parts of walls, posts and a deck's front near the
+/// robot are often unseen while their upper parts are mapped; an obstacle is taken to continue
+/// downwards into what was not seen, never into space seen free (an opening under a deck that
+/// rays crossed stays open). Columns within clear_radius_m of robot_W (when given) are left as
+/// they are: the robot's own body hides the space it stands in. Returns the number of voxels
+/// marked.
+std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyGrid& grid,
+                                         const Eigen::Vector2d* robot_W = nullptr, double clear_radius_m = 0.0);
 
 /// PLANNER_STATUS for a report.
 planner_status_t make_status(const planner_daemon::Report& report, std::int64_t utime);

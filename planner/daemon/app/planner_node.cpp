@@ -21,7 +21,11 @@ std::unique_ptr<pipeline::Planner> make_planner(const PlannerConfig& config, con
   const RobotModel bare = load_robot_model(config.robot_file);
   const RobotModel model =
       payload_id == "none" ? bare : attach_payload(bare, load_payload(config.payloads.at(payload_id)));
-  return std::make_unique<pipeline::Planner>(model, config.settings);
+  auto planner = std::make_unique<pipeline::Planner>(model, config.settings);
+  // The back-end's robot side (per-link SDFs, ~1 s) is built now, not inside the first plan that
+  // needs the back-end: a re-plan must finish before its hand-off time.
+  planner->prepare_backend();
+  return planner;
 }
 
 PlannerNode::PlannerNode(LcmBus& bus, PlannerConfig config, std::function<std::int64_t()> clock)
@@ -157,7 +161,9 @@ bool PlannerNode::regrid(const std::optional<planner_daemon::Goal>& goal) {
   // updates) and a re-plan to that goal finds it inside.
   if (goal_xy_) keep.push_back(*goal_xy_);
   const double t0 = rt::mono_s();
-  GridConversion g = to_grid(*tree_, keep, config_.map);
+  std::optional<Eigen::Vector2d> robot;
+  if (state) robot = Eigen::Vector2d(state->config.base.x_m, state->config.base.y_m);
+  GridConversion g = to_grid(*tree_, keep, config_.map, robot ? &*robot : nullptr);
   if (!g.grid) {
     rt::log_warn("map refused: " + g.error);
     status(GoalLoopState::kFailed, goal ? goal->goal_id : -1, "map refused: " + g.error);

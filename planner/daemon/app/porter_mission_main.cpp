@@ -6,14 +6,20 @@
 // (planner/validation, FCL). scripts/demo and the integration tests run it.
 //
 // usage: porter-mission --scene FILE [--lcm-url URL] [--timeout-s T] [--out JSON] [--goal-id N]
-//                       [--arrive-m D]
+//                       [--arrive-m D] [--add-box NAME,CX,CY,CZ,SX,SY,SZ,YAW --add-after-s T]
 //   --timeout-s T  give up after T s from the goal (default 120)
 //   --out JSON     summary and the recorded paths (executed, planned) for plotting
 //   --arrive-m D   arrived when the true base is within D m of the goal after the last
 //                  trajectory's end (default 0.3)
+//   --add-box      a box (centre, full sizes in m, yaw in rad) that porter-sim adds to the world
+//                  (SIM_COMMAND ADD_BOX) T s after the first trajectory has started; it counts as
+//                  an obstacle of the scene for every clearance reported
+// Each trajectory's clearance is judged over the part that was executed: from its start to the
+// next trajectory's start (or its end).
 // exit codes: 0 arrived without collision, 1 failed / timed out / collided, 2 bad arguments,
 // 3 bad scene, 4 LCM unavailable.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -63,8 +69,9 @@ porter::validation::FlatTrajectory flat(const porter::Trajectory& t) {
 int main(int argc, char** argv) {
   rt::init_log("porter-mission");
   std::string scene_path, url, out_path;
-  double timeout_s = 120.0, arrive_m = 0.3;
+  double timeout_s = 120.0, arrive_m = 0.3, add_after_s = -1.0;
   std::int64_t goal_id = 1;
+  std::string add_box;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string a = argv[i], v = argv[i + 1];
     if (a == "--scene") scene_path = v;
@@ -73,11 +80,30 @@ int main(int argc, char** argv) {
     else if (a == "--timeout-s") timeout_s = std::atof(v.c_str());
     else if (a == "--arrive-m") arrive_m = std::atof(v.c_str());
     else if (a == "--goal-id") goal_id = std::atoll(v.c_str());
+    else if (a == "--add-box") add_box = v;
+    else if (a == "--add-after-s") add_after_s = std::atof(v.c_str());
     else scene_path.clear(), i = argc;
+  }
+  porter::sim_command_t box_cmd{};
+  if (!add_box.empty()) {
+    std::vector<std::string> f;
+    std::size_t at = 0;
+    for (std::size_t c; (c = add_box.find(',', at)) != std::string::npos; at = c + 1) f.push_back(add_box.substr(at, c - at));
+    f.push_back(add_box.substr(at));
+    if (f.size() != 8 || !(add_after_s >= 0.0)) scene_path.clear();
+    if (f.size() == 8) {
+      box_cmd.command = porter::sim_command_t::ADD_BOX;
+      box_cmd.target = f[0];
+      double* v[] = {&box_cmd.center_x_m, &box_cmd.center_y_m, &box_cmd.center_z_m, &box_cmd.size_x_m,
+                     &box_cmd.size_y_m, &box_cmd.size_z_m, &box_cmd.yaw_rad};
+      for (int k = 0; k < 7; ++k) *v[k] = std::atof(f[static_cast<std::size_t>(k) + 1].c_str());
+      if (!(box_cmd.size_x_m > 0 && box_cmd.size_y_m > 0 && box_cmd.size_z_m > 0)) scene_path.clear();
+      box_cmd.source = "porter-mission";
+    }
   }
   if (scene_path.empty() || argc % 2 == 0) {
     std::fprintf(stderr, "usage: porter-mission --scene FILE [--lcm-url URL] [--timeout-s T] [--out JSON] "
-                         "[--goal-id N] [--arrive-m D]\n");
+                         "[--goal-id N] [--arrive-m D] [--add-box NAME,CX,CY,CZ,SX,SY,SZ,YAW --add-after-s T]\n");
     return 2;
   }
   porter::Scene scene;
@@ -88,6 +114,14 @@ int main(int argc, char** argv) {
     const std::string config = porter::pipeline::find_config_dir();
     robot = porter::load_robot_model(config + "/robots/scout_mini_piper/robot.yaml");
     payload = porter::load_payload(scene.payload_file);
+    if (!add_box.empty()) {
+      porter::CollisionShape box;
+      box.geometry = porter::Box{Eigen::Vector3d(box_cmd.size_x_m, box_cmd.size_y_m, box_cmd.size_z_m)};
+      box.T_parent_shape = Eigen::Translation3d(box_cmd.center_x_m, box_cmd.center_y_m, box_cmd.center_z_m) *
+                           Eigen::AngleAxisd(box_cmd.yaw_rad, Eigen::Vector3d::UnitZ());
+      box.name = box_cmd.target;
+      scene.obstacles.push_back(box);
+    }
   } catch (const std::exception& e) {
     rt::log_error(e.what());
     return 3;
@@ -166,9 +200,17 @@ int main(int argc, char** argv) {
   int resent = 0;
 
   std::string outcome = "timeout";
+  std::int64_t box_utime = 0;
   const double t0 = rt::mono_s();
   while (!rt::stop_requested() && rt::mono_s() - t0 < timeout_s) {
     bus.handle_timeout(50);
+    if (!add_box.empty() && box_utime == 0 && !trajectories.empty() &&
+        rt::wall_utime() >= trajectories.front().t.start_utime + static_cast<std::int64_t>(add_after_s * 1e6)) {
+      box_cmd.utime = box_utime = rt::wall_utime();
+      box_cmd.command_id = 1;
+      bus.publish(porter::channels::kSimCommand, box_cmd);
+      rt::log_info("SIM_COMMAND ADD_BOX " + box_cmd.target + " sent");
+    }
     if (trajectories.empty() && rt::mono_s() - last_send > 1.0) {
       std::size_t refusals = 0;
       for (const auto& s : statuses)
@@ -229,7 +271,20 @@ int main(int argc, char** argv) {
   json plans = json::array();
   for (std::size_t i = 0; i < trajectories.size(); ++i) {
     const auto& tr = trajectories[i].t.trajectory;
-    const auto report = porter::validation::validate_trajectory(robot, payload, scene, flat(tr));
+    // The executed part: up to the next trajectory's start (it took over there).
+    double until = tr.total_duration_s();
+    if (i + 1 < trajectories.size())
+      until = std::clamp(static_cast<double>(trajectories[i + 1].t.start_utime - trajectories[i].t.start_utime) * 1e-6,
+                         0.0, until);
+    const auto ft = flat(tr);
+    std::vector<double> ts;
+    std::vector<porter::validation::WholeBodyConfig> cs;
+    for (double t = 0.0;; t += 0.005) {
+      ts.push_back(std::min(t, until));
+      cs.push_back(porter::validation::config_at(ft, ts.back()));
+      if (t >= until) break;
+    }
+    const auto report = porter::validation::check_configurations(robot, payload, scene, ts, cs);
     double c = 1e9;
     std::string who;
     for (const auto& o : report.clearances)
@@ -242,7 +297,7 @@ int main(int argc, char** argv) {
       samples.push_back({z[0], z[1]});
     }
     plans.push_back({{"plan_id", trajectories[i].t.plan_id}, {"start_utime", trajectories[i].t.start_utime},
-                     {"duration_s", tr.total_duration_s()}, {"min_clearance_m", c}, {"closest", who},
+                     {"duration_s", tr.total_duration_s()}, {"executed_s", until}, {"min_clearance_m", c}, {"closest", who},
                      {"collision", report.collision.found}, {"xy", samples}});
   }
   // Exact-geometry clearance of what the simulated robot really did: every SIM_TRUTH sample from
@@ -298,7 +353,8 @@ int main(int argc, char** argv) {
               {"final_distance_m", final_error}, {"min_clearance_m", min_clearance}, {"closest_obstacle", closest},
               {"executed_min_clearance_m", executed_clearance}, {"executed_closest", executed_closest},
               {"executed_collision", executed.collision.found}, {"executed_samples", executed.samples},
-              {"replans", replans}, {"brakes", brakes}, {"statuses", stat}, {"plans", plans}, {"truth_xy_yaw", path},
+              {"replans", replans}, {"brakes", brakes}, {"box_added", box_utime != 0},
+              {"box_added_s", box_utime ? static_cast<double>(box_utime - goal_utime) * 1e-6 : -1.0}, {"statuses", stat}, {"plans", plans}, {"truth_xy_yaw", path},
               {"start", {scene.start.base.x_m, scene.start.base.y_m}}, {"goal", {scene.goal.base.x_m, scene.goal.base.y_m}},
               {"summary", line}};
     std::ofstream(out_path) << j.dump(1);

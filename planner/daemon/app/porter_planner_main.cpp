@@ -2,20 +2,25 @@
 // publishes TRAJECTORY, PLANNER_STATUS and HEARTBEAT (1 Hz). Plans on a worker thread
 // (planner_node.hpp); this file loads the config, opens LCM and handles messages until stopped.
 //
-// usage: porter-planner [--config FILE] [--lcm-url URL] [--payload ID]
+// usage: porter-planner [--config FILE] [--lcm-url URL] [--payload ID] [--clock wall|messages]
 //   --config FILE  planner daemon config (default: config/planner/porter_planner.yaml of the
 //                  config directory found at run time, porter/pipeline/config_dir.hpp)
 //   --lcm-url URL  LCM URL (default: $LCM_DEFAULT_URL, else LCM's default)
 //   --payload ID   the payload carried at start: a key of the config's payloads, or none
 //                  (default: the config's payload)
+//   --clock C      wall (default): now is the wall clock; messages: now follows ROBOT_STATE's
+//                  stamps (message_clock.hpp), for a recorded log played back (scripts/replay)
 // exit codes: 0 stopped by SIGINT/SIGTERM, 2 bad arguments, 3 bad config, 4 LCM unavailable.
 
 #include <cstdio>
 #include <exception>
+#include <functional>
 #include <string>
 
+#include "message_clock.hpp"
 #include "planner_config.hpp"
 #include "planner_node.hpp"
+#include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/pipeline/config_dir.hpp"
 #include "porter/runtime/clock.hpp"
@@ -27,15 +32,19 @@ namespace rt = porter::runtime;
 
 int main(int argc, char** argv) {
   rt::init_log(porter::planner_app::kProcessName);
-  std::string config_path, url, payload;
+  std::string config_path, url, payload, clock = "wall";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if ((a == "--config" || a == "--lcm-url" || a == "--payload") && i + 1 < argc) {
-      (a == "--config" ? config_path : a == "--lcm-url" ? url : payload) = argv[++i];
+    if ((a == "--config" || a == "--lcm-url" || a == "--payload" || a == "--clock") && i + 1 < argc) {
+      (a == "--config" ? config_path : a == "--lcm-url" ? url : a == "--payload" ? payload : clock) = argv[++i];
     } else {
-      std::fprintf(stderr, "usage: porter-planner [--config FILE] [--lcm-url URL] [--payload ID]\n");
-      return 2;
+      clock.clear();
+      break;
     }
+  }
+  if (clock != "wall" && clock != "messages") {
+    std::fprintf(stderr, "usage: porter-planner [--config FILE] [--lcm-url URL] [--payload ID] [--clock wall|messages]\n");
+    return 2;
   }
   if (config_path.empty()) {
     const std::string dir = porter::pipeline::find_config_dir();
@@ -68,9 +77,17 @@ int main(int argc, char** argv) {
   rt::log_info("config " + config.file + " (robot " + config.robot_file + ", settings " + config.settings_dir +
                "), map resolution " + std::to_string(config.map.resolution_m) + " m, hand-off lead " +
                rt::format_ms(config.loop.handoff.lead_s));
+  // Subscribed before the node so a state's stamp is taken before the node reads the clock.
+  porter::planner_app::MessageClock message_clock;
+  std::function<std::int64_t()> now = rt::wall_utime;
+  if (clock == "messages") {
+    bus.subscribe(porter::channels::kRobotState, [&](const porter::robot_state_t& m) { message_clock.observe(m.utime); });
+    now = [&message_clock] { return message_clock.now(); };
+    rt::log_info("clock: ROBOT_STATE stamps (played back log)");
+  }
   std::unique_ptr<porter::planner_app::PlannerNode> node;
   try {
-    node = std::make_unique<porter::planner_app::PlannerNode>(bus, config, rt::wall_utime);
+    node = std::make_unique<porter::planner_app::PlannerNode>(bus, config, now);
   } catch (const std::exception& e) {
     rt::log_error(std::string("planner: ") + e.what());
     return 3;

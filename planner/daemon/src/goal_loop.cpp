@@ -34,6 +34,22 @@ std::vector<StageTiming> stage_timings(const pipeline::PlanResult& r) {
 
 }  // namespace
 
+bool retryable(planner::Status s) {
+  switch (s) {
+    case planner::Status::kTimeout:
+    case planner::Status::kNoPath:
+    case planner::Status::kInCollision:
+    case planner::Status::kIterationLimit:
+    case planner::Status::kConvergedWithWarning:
+    case planner::Status::kNumericalFailure:
+    case planner::Status::kOptimizerFailed:
+    case planner::Status::kConstraintViolation:
+      return true;
+    default:
+      return false;
+  }
+}
+
 void GoalLoopParams::validate() const {
   auto positive = [](double v, const char* name) {
     if (!(v > 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(name) + " must be > 0");
@@ -46,6 +62,7 @@ void GoalLoopParams::validate() const {
   positive(handoff.braking.joint_decel_radps2, "handoff.braking.joint_decel_radps2");
   positive(handoff.braking.min_duration_s, "handoff.braking.min_duration_s");
   positive(collision_step_s, "collision_step_s");
+  positive(arrival_tolerance_m, "arrival_tolerance_m");
   if (handoff.latency_s >= handoff.lead_s) throw std::invalid_argument("handoff.latency_s must be < handoff.lead_s");
   if (max_attempts < 1) throw std::invalid_argument("max_attempts must be >= 1");
 }
@@ -140,6 +157,7 @@ Outcome GoalLoop::on_goal(const Goal& goal, const std::optional<MeasuredState>& 
   Outcome out;
   goal_ = goal;
   attempts_ = 0;
+  retry_from_rest_ = false;
   const std::int64_t now = clock_();
   auto refuse = [&](GoalLoopState s, const std::string& why) {
     out.reports.push_back(report(s, why));
@@ -170,8 +188,33 @@ Outcome GoalLoop::on_goal(const Goal& goal, const std::optional<MeasuredState>& 
 Outcome GoalLoop::on_tick(const std::optional<MeasuredState>& state) {
   Outcome out;
   const std::int64_t now = clock_();
+  if (retry_from_rest_ && goal_ && !active_executing(now)) {
+    const std::string old = map_age_problem(map_utime_, now, params_.max_map_age_s);
+    const std::string bad = state_problem(state, now);
+    if (!old.empty() || !bad.empty()) return out;  // wait for a fresh map and state
+    retry_from_rest_ = false;
+    Attempt a;
+    a.start = pipeline::StartState::at_rest(state->config);
+    out.reports.push_back(report(GoalLoopState::kPlanning, "re-plan from rest after a failed plan"));
+    return plan(a, std::move(out));
+  }
   if (!active_ || active_executing(now) || !goal_) return out;
   if (!active_->braking) {
+    // The trajectory has ended; a robot left short of the goal (the tracker stopped on a fault,
+    // the base was held) is planned again from where it stands.
+    const double off_m = state && state->valid ? std::hypot(state->config.base.x_m - goal_->spec.base.x_m,
+                                                            state->config.base.y_m - goal_->spec.base.y_m)
+                                               : 0.0;
+    if (off_m > params_.arrival_tolerance_m && attempts_ < params_.max_attempts) {
+      const std::string old = map_age_problem(map_utime_, now, params_.max_map_age_s);
+      if (!old.empty() || !state_problem(state, now).empty()) return out;  // wait for a fresh map and state
+      Attempt a;
+      a.start = pipeline::StartState::at_rest(state->config);
+      out.reports.push_back(report(GoalLoopState::kPlanning, fmt("re-plan from rest: the trajectory ended with the "
+                                                                 "robot %.2f m from the goal", off_m)));
+      out.log.push_back(out.reports.back().reason);
+      return plan(a, std::move(out));
+    }
     out.reports.push_back(report(GoalLoopState::kIdle, "goal " + std::to_string(goal_->goal_id) +
                                                           ": trajectory executed to its end"));
     out.log.push_back(out.reports.back().reason);
@@ -228,6 +271,16 @@ Outcome GoalLoop::plan(const Attempt& attempt, Outcome out) {
     if (attempt.handoff_s && active_executing(now)) {
       const double t_brake = std::max(0.0, active_time_s(now)) + params_.handoff.latency_s;
       return brake(t_brake, "the plan from the hand-off failed", std::move(out));
+    }
+    // A plan from rest that the search or the optimizers did not finish (a randomized front-end,
+    // budgets) is tried again with the next seed on the next tick, while attempts remain.
+    if (!attempt.handoff_s && retryable(r.status) && attempts_ < params_.max_attempts) {
+      rep.state = GoalLoopState::kReplanning;
+      rep.reason = "plan failed: " + failure + "; planning again from rest (attempt " + std::to_string(attempts_ + 1) +
+                   " of " + std::to_string(params_.max_attempts) + ")";
+      out.reports.back() = rep;
+      retry_from_rest_ = true;
+      return out;
     }
     goal_.reset();
     return out;

@@ -130,6 +130,28 @@ TEST_F(GoalLoopTest, PlansWithStageTimesAndReportsTheEndOfTheTrajectory) {
   EXPECT_FALSE(loop_->has_goal());
 }
 
+// A trajectory that ended with the robot short of the goal (the tracker stopped on a fault) is
+// followed by a plan from where the robot stands; at the goal the goal is done.
+TEST_F(GoalLoopTest, ATrajectoryEndedShortOfTheGoalIsPlannedAgainFromWhereTheRobotStands) {
+  const Publication p = plan_open();
+  clock_.advance_to(p.start_utime + static_cast<std::int64_t>(p.trajectory.total_duration_s() * 1e6) + 1000);
+  RobotConfiguration stuck = scene_.start;
+  stuck.base.x_m += 1.0;
+  EXPECT_TRUE(loop_->on_tick(state_at(stuck)).reports.empty()) << "plans only on a fresh map";
+  loop_->on_map(open_, clock_());
+  const Outcome again = loop_->on_tick(state_at(stuck));
+  ASSERT_TRUE(has_state(again, GoalLoopState::kPlanning)) << reasons(again);
+  EXPECT_NE(again.reports.front().reason.find("from the goal"), std::string::npos) << reasons(again);
+  ASSERT_TRUE(again.publication.has_value()) << reasons(again);
+  EXPECT_NEAR(again.publication->trajectory.position(0.0)[0], stuck.base.x_m, 1e-6);
+  EXPECT_TRUE(loop_->has_goal());
+  const Publication& q = *again.publication;
+  clock_.advance_to(q.start_utime + static_cast<std::int64_t>(q.trajectory.total_duration_s() * 1e6) + 1000);
+  const Outcome end = loop_->on_tick(state_at(scene_.goal));
+  ASSERT_TRUE(has_state(end, GoalLoopState::kIdle)) << reasons(end);
+  EXPECT_FALSE(loop_->has_goal());
+}
+
 // While a trajectory executes, a new goal is planned from the state at now + lead on it; the
 // result takes over exactly there, or, when the pipeline cannot plan from that moving state, a
 // brake from now is published and said why (the pipeline's moving starts are often refused on

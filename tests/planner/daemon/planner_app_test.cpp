@@ -117,6 +117,111 @@ TEST(PlannerMessages, OctomapRoundTripMarksTheColumnInAGridCoveringRobotAndGoal)
   EXPECT_FALSE(g.grid->occupied(idx));
 }
 
+/// The slow, obviously right answer: a voxel is filled when the tree does not know it, it is no
+/// gap, and walking up its column through unknown voxels that are no gaps either, the first
+/// known voxel is occupied (tree lookup per voxel at its centre). A gap: a voxel known free
+/// within kFillGapVoxels on both sides along x or along y.
+OccupancyGrid fill_reference(const octomap::OcTree& tree, const OccupancyGrid& grid) {
+  OccupancyGrid out = grid;
+  const auto& n = grid.dims();
+  auto known = [&](int x, int y, int z, bool* occupied) {
+    if (grid.occupied(x, y, z)) return *occupied = true;
+    if (!grid.in_bounds(x, y, z)) return false;
+    const Eigen::Vector3d c = grid.voxel_center_W(x, y, z);
+    const octomap::OcTreeNode* node = tree.search(c.x(), c.y(), c.z());
+    if (node == nullptr) return false;
+    *occupied = tree.isNodeOccupied(node);
+    return true;
+  };
+  auto free_at = [&](int x, int y, int z) {
+    bool occ = true;
+    return known(x, y, z, &occ) && !occ;
+  };
+  auto gap = [&](int x, int y, int z) {
+    bool s[4] = {false, false, false, false};
+    for (int k = 1; k <= kFillGapVoxels; ++k) {
+      s[0] = s[0] || free_at(x + k, y, z);
+      s[1] = s[1] || free_at(x - k, y, z);
+      s[2] = s[2] || free_at(x, y + k, z);
+      s[3] = s[3] || free_at(x, y - k, z);
+    }
+    return (s[0] && s[1]) || (s[2] && s[3]);
+  };
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        bool occ = false;
+        if (known(x, y, z, &occ) || gap(x, y, z)) continue;
+        for (int k = z + 1; k < n.z(); ++k) {
+          if (known(x, y, k, &occ)) {
+            if (occ) out.set(x, y, z);
+            break;
+          }
+          if (gap(x, y, k)) break;
+        }
+      }
+  return out;
+}
+
+TEST(PlannerMessages, UnknownBelowOccupiedIsFilledDownToSpaceSeenFree) {
+  // A wall seen from z = 1 m up, unknown below; a deck over an opening seen free beneath it.
+  octomap::OcTree tree(0.05);
+  for (double y = 0.025; y < 0.5; y += 0.05)
+    for (double z = 1.025; z < 2.0; z += 0.05) tree.updateNode(octomap::point3d(1.025, y, z), true);
+  for (double y = 1.025; y < 1.5; y += 0.05) {
+    for (double z = 1.025; z < 1.2; z += 0.05) tree.updateNode(octomap::point3d(1.025, y, z), true);
+    // Seen free beneath the deck but for a 0.1 m strip (a shadow) at y in [1.2, 1.3).
+    if (y > 1.2 && y < 1.3) continue;
+    for (double z = 0.525; z < 1.0; z += 0.05) tree.updateNode(octomap::point3d(1.025, y, z), false);
+  }
+  MapParams p;
+  p.fill_unknown_below = false;
+  const GridConversion plain = to_grid(tree, {{0.0, 0.0}}, p);
+  p.fill_unknown_below = true;
+  const GridConversion filled = to_grid(tree, {{0.0, 0.0}}, p);
+  ASSERT_TRUE(plain.grid && filled.grid);
+  auto at = [](const OccupancyGrid& g, double x, double y, double z) { return g.occupied_at(Eigen::Vector3d(x, y, z)); };
+  EXPECT_FALSE(at(*plain.grid, 1.025, 0.225, 0.525));
+  EXPECT_TRUE(at(*filled.grid, 1.025, 0.225, 0.525));   // the wall continues down...
+  EXPECT_TRUE(at(*filled.grid, 1.025, 0.225, 0.025));   // ...to the floor
+  EXPECT_FALSE(at(*filled.grid, 1.025, 1.125, 0.725));  // the opening seen free stays free
+  EXPECT_FALSE(at(*filled.grid, 1.025, 1.225, 0.725));  // the shadow strip inside it is a gap
+  EXPECT_FALSE(at(*filled.grid, 1.025, 1.125, 0.225));  // and below it (not adjacent to the deck)
+  EXPECT_FALSE(at(*filled.grid, 2.025, 0.225, 0.525));  // nothing above: stays as it was
+  // Near the robot the columns stay as they are (its own body hides them).
+  const Eigen::Vector2d robot(1.0, 0.0);
+  p.fill_clear_radius_m = 0.5;
+  const GridConversion near = to_grid(tree, {{0.0, 0.0}}, p, &robot);
+  ASSERT_TRUE(near.grid);
+  EXPECT_FALSE(at(*near.grid, 1.025, 0.225, 0.525));
+  EXPECT_TRUE(at(*near.grid, 1.025, 0.225, 1.525));
+}
+
+TEST(PlannerMessages, FillUnknownBelowOccupiedEqualsTheColumnWalkOnRandomTrees) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 6; ++trial) {
+    octomap::OcTree tree(0.05);
+    std::uniform_real_distribution<double> xy(-1.0, 1.0), z(0.0, 2.0);
+    for (int i = 0; i < 3000; ++i) {
+      const octomap::point3d q(static_cast<float>(xy(rng)), static_cast<float>(xy(rng)), static_cast<float>(z(rng)));
+      tree.updateNode(q, rng() % 3 == 0);
+    }
+    if (trial % 2 == 0) tree.prune();  // leaves larger than a voxel
+    MapParams p;
+    p.fill_unknown_below = false;
+    p.block_m = 0.5;
+    p.margin_m = 0.5;
+    const GridConversion g = to_grid(tree, {{0.0, 0.0}}, p);
+    ASSERT_TRUE(g.grid) << g.error;
+    const OccupancyGrid expected = fill_reference(tree, *g.grid);
+    OccupancyGrid fast = *g.grid;
+    const std::int64_t marked = fill_unknown_below_occupied(tree, fast);
+    EXPECT_EQ(marked, expected.count() - g.grid->count());
+    EXPECT_GT(marked, 0);
+    EXPECT_EQ(fast.words(), expected.words()) << "trial " << trial;
+  }
+}
+
 TEST(PlannerMessages, OctomapRefusals) {
   MapParams p;
   const octomap_t good = map_msg(column_tree(1.0, 1.0), 1);

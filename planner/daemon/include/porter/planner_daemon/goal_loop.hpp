@@ -22,7 +22,13 @@
 //     the current time plus latency_s.
 //   - After a brake the goal stays: once the robot has stopped (the brake's end has passed) the
 //     next on_tick() plans again from rest, up to max_attempts plans per goal.
-//   - The goal is done when a (non-brake) trajectory to it has been executed to its end.
+//   - A plan from rest that fails with a status another seed or a newer map may change
+//     (retryable(): timeout, no path, rejected by the acceptance test, optimizer failures) is
+//     reported as kReplanning and tried again from rest on the next on_tick() with the next
+//     seed, within the same max_attempts. Invalid goals, starts and inputs end the goal.
+//   - The goal is done when a (non-brake) trajectory to it has been executed to its end with the
+//     measured base within arrival_tolerance_m of the goal; farther away (the tracker stopped on a
+//     fault, the base was held), the next on_tick() plans again from rest while attempts remain.
 //   - A goal in collision, an invalid start and every other pipeline failure are reported with
 //     the pipeline's message.
 // Times: *_utime are µs on the messages' clock; `clock` returns that clock's now (plans take
@@ -50,6 +56,9 @@ struct GoalLoopParams {
   HandoffParams handoff;          ///< lead (>= the pipeline's worst-case plan time), latency, braking
   double collision_step_s = 0.02; ///< resolution of the first-collision time, s (> 0)
   int max_attempts = 3;           ///< plans per goal (the first + re-plans from rest after brakes)
+  /// A trajectory that ended with the measured base farther than this from the goal is followed
+  /// by a plan from rest (while attempts remain), m (> 0).
+  double arrival_tolerance_m = 0.3;
   std::uint64_t seed = 1;         ///< seed of the first plan; later plans use seed + n
   const planner::CancelFlag* cancel = nullptr;  ///< ends a running plan when set (optional)
 
@@ -62,6 +71,10 @@ enum class GoalLoopState : std::int8_t {
   kIdle = 0, kPlanning = 1, kSucceeded = 2, kFailed = 3, kReplanning = 4, kNoMap = 5, kNoState = 6,
 };
 const char* to_string(GoalLoopState s);
+
+/// Whether a plan that failed with this status is worth another attempt (a new seed, a newer
+/// map): kTimeout, kNoPath, kInCollision and the optimizers' failures; not the invalid inputs.
+bool retryable(planner::Status s);
 
 /// The measured state the planner starts from.
 struct MeasuredState {
@@ -161,6 +174,7 @@ class GoalLoop {
   std::int64_t map_utime_ = 0;
   std::optional<Goal> goal_;
   int attempts_ = 0;
+  bool retry_from_rest_ = false;  ///< a failed plan from rest is tried again on the next tick
   std::optional<Publication> active_;
   std::int64_t next_plan_id_ = 1;
   GoalLoopState state_ = GoalLoopState::kIdle;
