@@ -76,33 +76,33 @@ int main(int argc, char** argv) {
   rt::install_stop_handlers();
   auto line = [&](json j) { out << j.dump() << '\n'; };
   bus.subscribe(porter::channels::kSimTruth, [&](const porter::robot_state_t& m) {
-    line({{"ch", "SIM_TRUTH"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"x", m.x_m}, {"y", m.y_m},
+    line({{"ch", std::string(porter::channels::kSimTruth.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"x", m.x_m}, {"y", m.y_m},
           {"yaw", m.yaw_rad}, {"v", m.v_mps}, {"w", m.omega_radps}, {"q", m.q_rad}});
   }, 200);
   bus.subscribe(porter::channels::kBaseCmd, [&](const porter::base_cmd_t& m) {
-    line({{"ch", "BASE_CMD"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"enabled", m.enabled}, {"v", m.v_mps},
+    line({{"ch", std::string(porter::channels::kBaseCmd.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"enabled", m.enabled}, {"v", m.v_mps},
           {"w", m.omega_radps}});
   }, 200);
   bus.subscribe(porter::channels::kTrackerStatus, [&](const porter::tracker_status_t& m) {
-    line({{"ch", "TRACKER_STATUS"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"state", m.state},
+    line({{"ch", std::string(porter::channels::kTrackerStatus.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"state", m.state},
           {"message", m.message}});
   }, 50);
   bus.subscribe(porter::channels::kPlannerStatus, [&](const porter::planner_status_t& m) {
-    line({{"ch", "PLANNER_STATUS"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"goal_id", m.goal_id},
+    line({{"ch", std::string(porter::channels::kPlannerStatus.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"goal_id", m.goal_id},
           {"plan_id", m.plan_id}, {"state", m.state}, {"reason", m.failure_reason}, {"total_s", m.total_time_s}});
   }, 50);
   bus.subscribe(porter::channels::kTrajectory, [&](const porter::minco_trajectory_t& m) {
     double d = 0.0;
     for (double s : m.durations_s) d += s;
-    line({{"ch", "TRAJECTORY"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"plan_id", m.plan_id},
+    line({{"ch", std::string(porter::channels::kTrajectory.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"plan_id", m.plan_id},
           {"start_utime", m.start_utime}, {"duration_s", d}});
   }, 20);
   bus.subscribe(porter::channels::kMapOctomap, [&](const porter::octomap_t& m) {
-    line({{"ch", "MAP_OCTOMAP"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"map_id", m.map_id},
+    line({{"ch", std::string(porter::channels::kMapOctomap.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"map_id", m.map_id},
           {"bytes", m.num_bytes}});
   }, 5);
   bus.subscribe(porter::channels::kEstop, [&](const porter::estop_t& m) {
-    line({{"ch", "ESTOP"}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"active", m.active}});
+    line({{"ch", std::string(porter::channels::kEstop.name())}, {"rx", rt::wall_utime()}, {"utime", m.utime}, {"active", m.active}});
   }, 5);
   while (!rt::stop_requested()) {
     bus.handle_timeout(50);
