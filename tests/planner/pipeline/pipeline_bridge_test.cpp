@@ -41,6 +41,7 @@ TEST(PipelineBridge, AblationSeedsGiveTheRecordedStatuses) {
   const Scene first = testing::scene("bridge", 1.1);
   PlannerSettings settings = testing::shipped_settings(first);
   testing::generous_budgets(settings);
+  settings.pipeline.choose_warm_start_by_safety = true;  // as recorded (the warm-start column)
   Planner planner(testing::robot_for(first), settings);
   double h_b = -1.0;
   for (const Recorded& rec : kRecorded) {
