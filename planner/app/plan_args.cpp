@@ -27,6 +27,7 @@ std::string plan_usage() {
          "                   [--frontend-budget-ms MS] [--midend-budget-ms MS] [--backend-budget-ms MS]\n"
          "                   [--backend-iterations N] [--safety kc_svsdf|svsdf_per_link]\n"
          "                   [--collision kernels|spheres] [--self-collision-term on|off]\n"
+         "                   [--warm-start retry|lowest-js]\n"
          "                   [--acceptance exact|kernels] [--clearance-margin-m M] [--out FILE] [--quiet]\n"
          "  --scene FILE            scene YAML (config/scenes/*.yaml)\n"
          "  --seed N                seed of the scene's random obstacles and of the planner\n"
@@ -50,6 +51,9 @@ std::string plan_usage() {
          "                          acceptance test is the same either way\n"
          "  --self-collision-term on|off  the back-end's self-collision penalty next to the safety\n"
          "                          term (shipped: on; not part of the paper, off for comparison)\n"
+         "  --warm-start W          when both mid-end solves were rejected, the back-end starts from\n"
+         "                          the retry (shipped) or from the one with the lower J_s\n"
+         "                          (lowest-js: two J_s evaluations taken from its budget)\n"
          "  --acceptance A          the test a trajectory must pass to be executed: kernels (default:\n"
          "                          the kernel check on the voxel map, inflated by 8-14 cm) or exact\n"
          "                          (exact geometry against the scene's obstacles and the ground,\n"
@@ -142,6 +146,11 @@ PlanArgs parse_plan_args(int argc, const char* const* argv) {
       if (v == "on") a.self_collision_term = true;
       else if (v == "off") a.self_collision_term = false;
       else throw ArgsError("--self-collision-term: expected on or off, got '" + v + "'");
+    } else if (flag == "--warm-start") {
+      const std::string v = value();
+      if (v == "lowest-js") a.choose_warm_start_by_safety = true;
+      else if (v == "retry") a.choose_warm_start_by_safety = false;
+      else throw ArgsError("--warm-start: expected retry or lowest-js, got '" + v + "'");
     } else if (flag == "--acceptance") {
       const std::string v = value();
       if (v == "exact") a.acceptance = AcceptanceArg::kExact;

@@ -48,6 +48,9 @@ struct PlanArgs {
   std::optional<CollisionArg> collision;
   /// The back-end's self-collision penalty (backend/self_collision_term.hpp), --self-collision-term.
   std::optional<bool> self_collision_term;
+  /// --warm-start lowest-js|retry: the back-end's warm start when both mid-end solves were rejected
+  /// (PipelineSettings::choose_warm_start_by_safety).
+  std::optional<bool> choose_warm_start_by_safety;
   /// The final acceptance test: exact (FCL against the scene's obstacles, clearance >= the margin)
   /// or kernels (the kernel trajectory check on the voxel map).
   AcceptanceArg acceptance = AcceptanceArg::kKernels;

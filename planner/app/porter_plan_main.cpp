@@ -46,6 +46,7 @@ void apply_overrides(const app::PlanArgs& a, pipeline::PlannerSettings& s) {
     p.safety = *a.safety == app::SafetyArg::kSvsdfPerLink ? baselines::SafetyModel::kSvsdfPerLink
                                                           : baselines::SafetyModel::kKcSvsdf;
   if (a.self_collision_term) p.self_collision_term = *a.self_collision_term;
+  if (a.choose_warm_start_by_safety) p.choose_warm_start_by_safety = *a.choose_warm_start_by_safety;
 }
 
 int exit_code(const pipeline::PlanResult& r, pipeline::Stages stages) {

@@ -220,7 +220,7 @@ PlanResult Planner::plan(const PlanRequest& req) {
   const double setup_s = build ? seconds_since(t_setup) : 0.0;
   r.setup_s += setup_s;
   r.backend = detail::run_backend(backend_, mid, map_W_, *safety_term_, self_term_.get(), p.backend_budget_s,
-                                  *acceptance_, req.cancel);
+                                  p.choose_warm_start_by_safety, *acceptance_, req.cancel);
   BackendReport& be = *r.backend;
   be.setup_s = setup_s;
   const backend::BackendResult& b = be.result;

@@ -17,7 +17,8 @@ using detail::Fields;
 
 void load_pipeline_yaml(const std::string& file, PlannerSettings& s) {
   const yaml::Reader root = yaml::Reader::load_file(file);
-  const Fields top(root, {"budgets", "collision", "safety", "self_collision_term", "retry_arm_residual_scale", "goal",
+  const Fields top(root, {"budgets", "collision", "safety", "self_collision_term", "retry_arm_residual_scale",
+                          "choose_warm_start_by_safety", "goal",
                           "kernels", "spheres"});
   PipelineSettings& p = s.pipeline;
   {
@@ -36,6 +37,7 @@ void load_pipeline_yaml(const std::string& file, PlannerSettings& s) {
       "kc_svsdf, svsdf_per_link (spheres follows from collision: spheres)");
   top.flag("self_collision_term", p.self_collision_term);
   top.fraction("retry_arm_residual_scale", p.retry_arm_residual_scale);
+  top.flag("choose_warm_start_by_safety", p.choose_warm_start_by_safety);
   {
     const Fields f(top.section("goal"), {"position_tolerance_m", "yaw_tolerance_rad", "free_arm_candidates"});
     f.nonnegative("position_tolerance_m", p.goal_position_tolerance_m);

@@ -101,14 +101,15 @@ MidendReport run_midend(const midend::MidEnd& midend, const planner::WholeBodyPa
 
 BackendReport run_backend(const backend::BackEnd& backend, const MidendReport& mid, const OccupancyGrid& map_W,
                           backend::SafetyTerm& safety, backend::SelfCollisionTerm* self_term, double budget_s,
-                          const planner::TrajectoryAcceptance& acceptance, const planner::CancelFlag* cancel) {
+                          bool choose_by_safety, const planner::TrajectoryAcceptance& acceptance, const planner::CancelFlag* cancel) {
   BackendReport rep;
   rep.budget_s = budget_s;
   rep.safety_model = safety.name();
   rep.self_collision_term = self_term != nullptr;
-  // The warm starts: the reported solve, and the first one when both were rejected.
+  // The warm starts: the reported solve, and (when asked for) the first one when both were
+  // rejected.
   std::vector<const midend::MidendResult*> starts{&mid.result};
-  if (mid.first && mid.first->solution) starts.push_back(&*mid.first);
+  if (choose_by_safety && mid.first && mid.first->solution) starts.push_back(&*mid.first);
   // With several, the one with the lowest J_s (the term's own measure of how deep the trajectory
   // is in collision), at one evaluation each, taken from the budget.
   const auto t_select = Clock::now();

@@ -26,10 +26,12 @@ MidendReport run_midend(const midend::MidEnd& midend, const planner::WholeBodyPa
                         const PipelineSettings& settings, Stages stages, const planner::TrajectoryAcceptance& acceptance,
                         const planner::CollisionChecker& self_checker, const planner::CancelFlag* cancel);
 
-/// The back-end from the mid-end stage's solution(s) (the one with the lower J_s when there are
-/// two; the choice counts against the budget), re-checked by `acceptance`.
+/// The back-end from the mid-end stage's reported solution, or, with `choose_by_safety` and two
+/// solutions, from the one with the lower J_s (the choice counts against the budget); re-checked
+/// by `acceptance`.
 BackendReport run_backend(const backend::BackEnd& backend, const MidendReport& mid, const OccupancyGrid& map_W,
                           backend::SafetyTerm& safety, backend::SelfCollisionTerm* self_term, double budget_s,
+                          bool choose_by_safety,
                           const planner::TrajectoryAcceptance& acceptance, const planner::CancelFlag* cancel);
 
 }  // namespace porter::pipeline::detail

@@ -158,9 +158,10 @@ TEST_F(PorterPlanFull, SelfCollisionTermFlag) {
 TEST_F(PorterPlanFull, MidendInCollisionIsSolvedAgainAndTheBackendStartsFromTheShallowerOne) {
   // bridge h_b = 1.1 m seed 20: the first mid-end solve cuts through the deck; the retry with half
   // the arm residual bound stays closer to the front-end path but still collides, so both go to
-  // the back-end, which starts from the one with the lower J_s.
+  // the back-end, which (with --warm-start lowest-js) starts from the one with the lower J_s.
   const std::string args = "--scene " + scene("bridge") +
-                           " --set h_b=1.1 --seed 20 --stages full --frontend-budget-ms 20000 --midend-budget-ms 20000"
+                           " --set h_b=1.1 --seed 20 --stages full --warm-start lowest-js"
+                           " --frontend-budget-ms 20000 --midend-budget-ms 20000"
                            " --backend-budget-ms 120000 --backend-iterations 300 --out " + (dir_ / "r.json").string();
   const int code = run(args, "r");
   ASSERT_TRUE(code == 0 || code == 1) << file("stderrr.txt");

@@ -378,20 +378,20 @@ TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {
   bs.max_iterations = 300;  // with a generous budget: the same run on any machine
   const BackEnd backend(model, bs);
 
-  SvsdfSafetyTerm plain_term(model, sdf, ss);
+  // Without the self-collision term this warm start once ended with the arm on the base (links
+  // 1-4) after the obstacles were cleared. Since the rest-boundary heading term became exact
+  // (about w |angle|, midend_problem.cpp) the same solve ends collision-free without it, so the
+  // fixture no longer shows the term's need; what remains checked is that with the term the
+  // back-end clears the obstacles without the arm touching the base, and that the term ran.
   const pipeline::KernelAcceptance acceptance(checker);
   const midend::MidendSolution warm = solution_of(ws, model);
-  const BackendResult plain = backend.solve(warm, grid, plain_term, planner::Deadline(120.0), &acceptance);
-  ASSERT_TRUE(plain.ok()) << plain.message;
-  EXPECT_EQ(plain.check, SafetyCheck::kInCollision);
-  EXPECT_TRUE(checker.check_trajectory_self(*plain.trajectory).in_collision) << "the arm should end on the base";
-  EXPECT_LT(plain.final_cost.safety, 20.0) << "the obstacles were cleared";
 
   SvsdfSafetyTerm term(model, sdf, ss);
   SelfCollisionTerm self(model, sdf, checker.self_collision().checked_pairs(), checker.self_collision().inflation_bound_m());
   const BackendResult r = backend.solve(warm, grid, term, planner::Deadline(120.0), &acceptance, &self);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << "link " << r.collision_link << " " << r.message;
+  EXPECT_FALSE(checker.check_trajectory_self(*r.trajectory).in_collision);
   EXPECT_GT(r.self_collision_s, 0.0);
 }
 

@@ -46,12 +46,16 @@ TEST_P(MidendSolveTest, MeetsLimitsResidualsAndContinuity) {
   EXPECT_LE(c.joint_position_excess, 0.02);
   EXPECT_LE(c.residual_base_ratio, 1.02);
   EXPECT_LE(c.residual_arm_ratio, 1.02);
-  EXPECT_LT(c.start_heading_error_rad, 0.05);
-  EXPECT_LT(c.goal_heading_error_rad, 0.05);
+  // The rest-boundary heading term is an exact penalty (about w |angle|, midend_problem.cpp): the
+  // optimum leaves the start and goal heading about delta F / w off (delta = 2 mrad, F the pull of
+  // the other terms, F / w < 0.1 in the runs measured), far inside the 0.02 rad a goal pose is
+  // asked to be reached within; 2 mrad is that bound with F = w.
+  EXPECT_LT(c.start_heading_error_rad, 2e-3);
+  EXPECT_LT(c.goal_heading_error_rad, 2e-3);
   std::printf("%s\n", r.message.c_str());
   std::printf("[%s] %s: pieces %d segs %d vars %d iters %d evals %d T %.2f s  %.1f ms\n"
               "  wheel w %.3f a %.3f joint v %.3f a %.3f q %.4f resid b %.3f m %.3f gear yaw %.2e"
-              " heading %.3f/%.3f\n",
+              " heading %.2e/%.2e\n",
               GetParam().name, to_string(r.status), r.num_pieces, r.num_segments, r.num_variables,
               r.iterations, r.evaluations, r.trajectory->total_duration_s(), 1e3 * r.optimize_s,
               c.wheel_velocity_ratio, c.wheel_acceleration_ratio, c.joint_velocity_ratio,

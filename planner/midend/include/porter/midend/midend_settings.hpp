@@ -76,9 +76,9 @@ struct MidendSettings {
   double slow_reference_fraction = 0.5;
   /// Weight of the rest-boundary heading term: at the global start and goal the base is at
   /// rest, so its direction of motion is the jerk's; this aligns eta * jerk with the node's
-  /// yaw (cost weight * (1 - cos angle), gated to vanish when the base does not move). >= 0.
-  /// 5e4 with time_weight_per_s = 100 (1e4 let the time term turn the start heading by
-  /// 0.06-0.07 rad on some forest / tunnel paths).
+  /// yaw (cost about weight * |angle|, rounded within 2 mrad of alignment, gated to vanish when
+  /// the base does not move: midend_problem.cpp). >= 0. A cost quadratic in the angle let the
+  /// time term (time_weight_per_s = 100) hold the start or goal heading 0.06-0.07 rad off.
   double weight_boundary_heading = 5e4;
 
   // --- Pose residuals to the front-end path -----------------------------------------------

@@ -38,12 +38,21 @@ struct PipelineSettings {
   /// Mid-end retry (not in the paper): a mid-end trajectory that is not accepted is solved once
   /// more with the arm residual bound rho_m times this, closer to the front-end's arm path
   /// (collision-free by the kernel motion check, self-collision included). The retry replaces
-  /// the first solve when the first hits itself or when the retry is accepted; otherwise both go
-  /// to the back-end, which starts from the one with the lower safety penalty. Only a
+  /// the first solve when the first hits itself or when the retry is accepted; otherwise the
+  /// back-end starts from the retry, or from the one of the two with the lower safety penalty
+  /// (choose_warm_start_by_safety). Only a
   /// self-collision is retried when the plan stops at the mid-end. Measured on the bridge
   /// ablation: 0.5 and 0.25 both fix the self-colliding runs; 0.5 keeps more freedom for the
   /// obstacle terms. (0, 1]; 1 turns the retry off.
   double retry_arm_residual_scale = 0.5;
+  /// When both mid-end solves were rejected: true evaluates the safety penalty J_s of both and
+  /// the back-end starts from the lower (two J_s preparations and first evaluations, with no
+  /// earlier t* to start their searches from, taken from the back-end's budget); false starts
+  /// from the retry without that choice. Measured (docs/realtime.md) at the default 300 ms
+  /// back-end budget: the choice took a median 305 ms on tunnel, the whole budget, and the
+  /// optimizer then made no iteration in 13 of 19 runs, so the default is false; with budgets that
+  /// leave the optimizer time (the bridge's recorded runs in tests) it can pay off.
+  bool choose_warm_start_by_safety = false;
   /// Goal tolerances for requests that give none (GoalSpec), m and rad (>= 0).
   double goal_position_tolerance_m = 0.1;
   double goal_yaw_tolerance_rad = 0.1;
