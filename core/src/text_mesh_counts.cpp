@@ -1,0 +1,157 @@
+#include "text_mesh_counts.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "porter/core/mesh_loader.hpp"
+
+namespace porter::detail {
+namespace {
+
+constexpr std::size_t kHeaderBytes = 64 * 1024;
+constexpr std::size_t kChunkBytes = 1 << 20;
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Whitespace-separated tokens of `text`, '#' starting a comment to the end of the line (as
+// assimp's OFF reader skips them), at most `max_tokens`.
+std::vector<std::string> tokens(const std::string& text, std::size_t max_tokens) {
+  std::vector<std::string> out;
+  std::size_t i = 0;
+  while (i < text.size() && out.size() < max_tokens) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '#') {
+      while (i < text.size() && text[i] != '\n') ++i;
+    } else if (std::isspace(c) != 0) {
+      ++i;
+    } else {
+      const std::size_t start = i;
+      while (i < text.size() && std::isspace(static_cast<unsigned char>(text[i])) == 0 && text[i] != '#') ++i;
+      out.push_back(text.substr(start, i - start));
+    }
+  }
+  return out;
+}
+
+// The leading digits of a token as assimp's strtoul10 reads them, saturated instead of wrapped
+// (a count that wraps to a small number is refused all the same).
+std::uint64_t leading_count(const std::string& token) {
+  std::uint64_t v = 0;
+  for (const char c : token) {
+    if (c < '0' || c > '9') break;
+    v = std::min<std::uint64_t>(v * 10 + static_cast<std::uint64_t>(c - '0'), std::uint64_t{1} << 62);
+  }
+  return v;
+}
+
+// Calls `line(begin, end)` for every line of the file, reading it in chunks.
+template <class F>
+bool for_each_line(const std::string& path, F&& line) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return false;
+  std::vector<char> buffer(kChunkBytes);
+  std::string carry;
+  while (in) {
+    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    const std::size_t n = static_cast<std::size_t>(in.gcount());
+    std::size_t start = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (buffer[i] != '\n') continue;
+      if (carry.empty()) {
+        line(buffer.data() + start, buffer.data() + i);
+      } else {
+        carry.append(buffer.data() + start, i - start);
+        line(carry.data(), carry.data() + carry.size());
+        carry.clear();
+      }
+      start = i + 1;
+    }
+    carry.append(buffer.data() + start, n - start);
+  }
+  if (!carry.empty()) line(carry.data(), carry.data() + carry.size());
+  return true;
+}
+
+std::string check_off(const std::string& path, bool by_extension) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return {};
+  std::string head(kHeaderBytes, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const std::vector<std::string> t = tokens(head, 4);
+  if (t.empty()) return {};
+  // The header's keyword: [ST][C][N][4][n]OFF, as assimp reads it; without one (allowed for a
+  // .off file) the counts come first.
+  std::size_t p = 0;
+  const std::string& k = t[0];
+  if (k.compare(0, 2, "ST") == 0) p += 2;
+  if (p < k.size() && k[p] == 'C') ++p;
+  if (p < k.size() && k[p] == 'N') ++p;
+  if (p < k.size() && k[p] == '4') ++p;
+  const bool dimension = p < k.size() && k[p] == 'n';
+  if (dimension) ++p;
+  const bool keyword = k.compare(p, 3, "OFF") == 0;
+  if (!keyword && !by_extension) return {};
+  std::size_t at = keyword ? 1 : 0;
+  if (keyword && dimension) ++at;
+  if (t.size() < at + 2) return {};  // assimp refuses it itself
+  const std::uint64_t vertices = leading_count(t[at]);
+  const std::uint64_t faces = leading_count(t[at + 1]);
+  if (vertices > kMeshMaxVertices)
+    return "OFF header claims " + std::to_string(vertices) + " vertices (limit " + std::to_string(kMeshMaxVertices) + ")";
+  if (faces > kMeshMaxFaces)
+    return "OFF header claims " + std::to_string(faces) + " faces (limit " + std::to_string(kMeshMaxFaces) + ")";
+  std::uint64_t lines = 0;
+  for_each_line(path, [&](const char*, const char*) { ++lines; });
+  if (vertices + faces > lines)
+    return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
+           " faces, one line each; the file has " + std::to_string(lines) + " lines";
+  return {};
+}
+
+std::string check_obj(const std::string& path) {
+  std::uint64_t vertices = 0, faces = 0, corners = 0;
+  for_each_line(path, [&](const char* b, const char* e) {
+    while (b < e && (*b == ' ' || *b == '\t')) ++b;
+    if (e - b < 2 || (b[1] != ' ' && b[1] != '\t')) return;
+    if (b[0] == 'v') {
+      ++vertices;
+    } else if (b[0] == 'f') {
+      ++faces;
+      bool in_word = false;
+      for (const char* c = b + 1; c < e; ++c) {
+        const bool space = *c == ' ' || *c == '\t' || *c == '\r';
+        if (!space && !in_word) ++corners;
+        in_word = !space;
+      }
+    }
+  });
+  if (vertices > kMeshMaxVertices)
+    return "OBJ file has " + std::to_string(vertices) + " vertices (limit " + std::to_string(kMeshMaxVertices) + ")";
+  if (faces > kMeshMaxFaces)
+    return "OBJ file has " + std::to_string(faces) + " faces (limit " + std::to_string(kMeshMaxFaces) + ")";
+  if (corners > 3 * kMeshMaxFaces)
+    return "OBJ faces have " + std::to_string(corners) + " corners in all (limit " +
+           std::to_string(3 * kMeshMaxFaces) + ")";
+  return {};
+}
+
+}  // namespace
+
+std::string check_text_mesh_counts(const std::string& path) {
+  const std::string ext = lower_extension(path);
+  if (std::string bad = check_off(path, ext == ".off"); !bad.empty()) return bad;
+  // assimp picks the OBJ importer by extension, or by content for an extension it does not know.
+  if (ext == ".ply" || ext == ".stl" || ext == ".off" || ext == ".dae") return {};
+  return check_obj(path);
+}
+
+}  // namespace porter::detail
