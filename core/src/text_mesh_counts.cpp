@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <vector>
 
 #include "porter/core/mesh_loader.hpp"
@@ -80,6 +81,62 @@ bool for_each_line(const std::string& path, F&& line) {
   return true;
 }
 
+bool line_end(char c) { return c == '\n' || c == '\r' || c == '\f' || c == '\0'; }
+
+// Walks the file as assimp's OFF importer does (the keyword, the counts, then one line per
+// vertex and per face, empty lines skipped) and refuses a face line whose corner count is not
+// in [1, 9]. assimp skips such a face by shrinking the face count while its face array stays
+// as it was, and with more lines after the faces its import then crashes (a segfault inside
+// Importer::ReadFile, found by the fuzzer).
+std::string check_off_faces(const std::string& path, bool keyword, bool dimension, std::uint64_t vertices,
+                            std::uint64_t faces) {
+  std::ifstream in(path, std::ios::binary);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t i = 0;
+  auto next_token = [&] {  // assimp's NextToken: spaces, line ends and '#' comment lines
+    for (;;) {
+      while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || line_end(text[i])) && text[i] != '\0') ++i;
+      if (i < text.size() && text[i] == '#') {
+        while (i < text.size() && !line_end(text[i])) ++i;
+        continue;
+      }
+      return;
+    }
+  };
+  auto skip_digits = [&] {
+    while (i < text.size() && text[i] >= '0' && text[i] <= '9') ++i;
+  };
+  next_token();
+  if (keyword) {
+    i = text.find("OFF", i) + 3;
+    next_token();
+  }
+  if (dimension) {
+    skip_digits();
+    next_token();
+  }
+  for (int count = 0; count < 3; ++count) {  // vertices, faces, edges
+    skip_digits();
+    next_token();
+  }
+  std::uint64_t line = 0;
+  while (i < text.size() && text[i] != '\0' && line < vertices + faces) {
+    const std::size_t start = i;
+    while (i < text.size() && !line_end(text[i]) && i - start < 4095) ++i;
+    if (line >= vertices) {
+      std::size_t c = start;
+      while (c < i && (text[c] == ' ' || text[c] == '\t')) ++c;
+      std::uint64_t corners = 0;
+      for (; c < i && text[c] >= '0' && text[c] <= '9' && corners < 100; ++c) corners = corners * 10 + (text[c] - '0');
+      if (corners < 1 || corners > 9)
+        return "OFF face " + std::to_string(line - vertices) + " does not start with a corner count in [1, 9]";
+    }
+    while (i < text.size() && line_end(text[i]) && text[i] != '\0') ++i;
+    ++line;
+  }
+  return {};
+}
+
 std::string check_off(const std::string& path, bool by_extension) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};
@@ -114,7 +171,7 @@ std::string check_off(const std::string& path, bool by_extension) {
   if (vertices + faces > lines)
     return "OFF header claims " + std::to_string(vertices) + " vertices and " + std::to_string(faces) +
            " faces, one line each; the file has " + std::to_string(lines) + " lines";
-  return {};
+  return check_off_faces(path, keyword, keyword && dimension, vertices, faces);
 }
 
 std::string check_obj(const std::string& path) {

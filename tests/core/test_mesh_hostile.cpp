@@ -104,6 +104,11 @@ TEST_F(HostileMeshes, OffCountsAreCheckedBeforeAssimpReadsTheFile) {
   expect_refused(write("bare.off", "4 3000000 0\n0 0 0\n"), "3000000 faces");
   // An OFF under another extension is still an OFF to assimp.
   expect_refused(write("renamed.mesh", tetra_off("OFF", "4 3000000 0")), "3000000 faces");
+  // Found by the fuzzer: a face line that does not start with a corner count in [1, 9], with
+  // lines after the faces, segfaulted inside assimp's import.
+  expect_refused(write("skipped.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n"
+                                      "0 1 2 3\n0.4 0.3 -0.03\n0.4 0.3 -0.03\n"),
+                 "OFF face 3 does not start with a corner count in [1, 9]");
   // Within the limits, more than the file has lines for.
   expect_refused(write("short.off", tetra_off("OFF", "4 1000 0")), "the file has 10 lines");
 }
