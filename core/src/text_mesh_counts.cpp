@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <memory>
 #include <vector>
 
 #include "porter/core/mesh_loader.hpp"
@@ -14,7 +15,7 @@ namespace porter::detail {
 namespace {
 
 constexpr std::size_t kHeaderBytes = 64 * 1024;
-constexpr std::size_t kChunkBytes = 1 << 20;
+constexpr std::size_t kChunkBytes = 64 * 1024;
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -58,24 +59,26 @@ template <class F>
 bool for_each_line(const std::string& path, F&& line) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return false;
-  std::vector<char> buffer(kChunkBytes);
+  // Not a std::vector: zero-filling the chunk on every call was most of a small file's cost.
+  const std::unique_ptr<char[]> chunk(new char[kChunkBytes]);
+  char* const buffer = chunk.get();
   std::string carry;
   while (in) {
-    in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+    in.read(buffer, static_cast<std::streamsize>(kChunkBytes));
     const std::size_t n = static_cast<std::size_t>(in.gcount());
     std::size_t start = 0;
     for (std::size_t i = 0; i < n; ++i) {
       if (buffer[i] != '\n') continue;
       if (carry.empty()) {
-        line(buffer.data() + start, buffer.data() + i);
+        line(buffer + start, buffer + i);
       } else {
-        carry.append(buffer.data() + start, i - start);
+        carry.append(buffer + start, i - start);
         line(carry.data(), carry.data() + carry.size());
         carry.clear();
       }
       start = i + 1;
     }
-    carry.append(buffer.data() + start, n - start);
+    carry.append(buffer + start, n - start);
   }
   if (!carry.empty()) line(carry.data(), carry.data() + carry.size());
   return true;
@@ -140,7 +143,9 @@ std::string check_off_faces(const std::string& path, bool keyword, bool dimensio
 std::string check_off(const std::string& path, bool by_extension) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};
-  std::string head(kHeaderBytes, '\0');
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  std::string head(ec ? 0 : static_cast<std::size_t>(std::min<std::uintmax_t>(size, kHeaderBytes)), '\0');
   in.read(head.data(), static_cast<std::streamsize>(head.size()));
   head.resize(static_cast<std::size_t>(in.gcount()));
   const std::vector<std::string> t = tokens(head, 4);
