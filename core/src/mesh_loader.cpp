@@ -12,6 +12,7 @@
 
 #include "porter/core/load_error.hpp"
 #include "ply_header.hpp"
+#include "text_mesh_counts.hpp"
 
 namespace porter {
 
@@ -59,7 +60,7 @@ void weld_and_check(const std::vector<Eigen::Vector3d>& raw, TriangleMesh& mesh)
 // steps index vertices with the face indices unchecked (an out-of-range index segfaulted).
 std::string check_imported(const aiScene& scene) {
   if (scene.mNumMeshes > 0 && scene.mMeshes == nullptr) return "mesh list missing";
-  std::size_t vertices = 0, faces = 0;
+  std::size_t vertices = 0, faces = 0, triangles = 0;
   for (unsigned m = 0; m < scene.mNumMeshes; ++m) {
     const aiMesh* mesh = scene.mMeshes[m];
     if (mesh == nullptr) return "mesh " + std::to_string(m) + " missing";
@@ -74,6 +75,11 @@ std::string check_imported(const aiScene& scene) {
       const aiFace& face = mesh->mFaces[f];
       if (face.mNumIndices == 0 || face.mIndices == nullptr)
         return "face " + std::to_string(f) + " of mesh " + std::to_string(m) + " has no indices";
+      // Triangulation turns an n-gon into n - 2 triangles: one face of 10^7 corners would
+      // become 10^7 faces inside post-processing.
+      triangles += face.mNumIndices >= 3 ? face.mNumIndices - 2 : 1;
+      if (triangles > kMeshMaxFaces)
+        return "more than " + std::to_string(kMeshMaxFaces) + " triangles once polygons are split";
       for (unsigned k = 0; k < face.mNumIndices; ++k)
         if (face.mIndices[k] >= mesh->mNumVertices)
           return "face " + std::to_string(f) + " of mesh " + std::to_string(m) + " uses vertex " +
@@ -113,6 +119,7 @@ MeshPtr load_mesh(const std::string& path, const Eigen::Vector3d& scale) {
   if (!(scale.array() > 0.0).all() || !scale.allFinite())
     throw LoadError(path, "scale", "mesh scale must be positive in every axis");
   if (const std::string bad = detail::check_ply_header(path); !bad.empty()) throw LoadError(path, "", bad);
+  if (const std::string bad = detail::check_text_mesh_counts(path); !bad.empty()) throw LoadError(path, "", bad);
 
   Assimp::Importer importer;
   // Point clouds and lines carry no volume; drop them so only triangles remain.

@@ -34,6 +34,7 @@ bool Heartbeat::update(HeartbeatHealth health, const std::string& status, double
   msg.status = status;
   msg.loop_rate_hz = loop_rate_hz;
   msg.loop_overruns = loop_overruns;
+  msg.dropped_datagrams = static_cast<std::int64_t>(LcmBus::process_decode_failures());
   first_ = false;
   last_ns_ = now;
   last_health_ = health;

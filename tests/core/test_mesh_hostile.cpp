@@ -82,6 +82,67 @@ TEST_F(HostileMeshes, PlyCountsAreCheckedAgainstTheFileBeforeAssimpReadsIt) {
   expect_refused(write("binary.ply", binary), "need at least 1200 bytes");
 }
 
+// A tetrahedron as OFF; `header` is the first line, `counts` the second.
+std::string tetra_off(const std::string& header = "OFF", const std::string& counts = "4 4 0") {
+  return header + "\n" + counts + "\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+}
+
+// A 60-byte OFF claiming 1e9 faces took assimp past 22 GB: its importer allocates and
+// constructs every face the header claims before it reads one.
+TEST_F(HostileMeshes, OffCountsAreCheckedBeforeAssimpReadsTheFile) {
+  const MeshPtr mesh = load_mesh(write("ok.off", tetra_off()));
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->triangles.size(), 4u);
+  expect_refused(write("faces.off", tetra_off("OFF", "4 1000000000 0")), "OFF header claims 1000000000 faces (limit 2000000)");
+  expect_refused(write("vertices.off", tetra_off("OFF", "1000000000 4 0")),
+                 "OFF header claims 1000000000 vertices (limit 6000000)");
+  // A count beyond 32 bits, which assimp would read wrapped to a small number.
+  expect_refused(write("wrap.off", tetra_off("OFF", "4 4294967300 0")), "OFF header claims 4294967300 faces");
+  // The keyword's prefixes, a comment, the dimension line; no keyword at all in a .off file.
+  expect_refused(write("prefixes.off", tetra_off("# made by hand\nSTCNOFF", "4 3000000 0")), "3000000 faces");
+  expect_refused(write("dimension.off", tetra_off("nOFF 3", "4 3000000 0")), "3000000 faces");
+  expect_refused(write("bare.off", "4 3000000 0\n0 0 0\n"), "3000000 faces");
+  // An OFF under another extension is still an OFF to assimp.
+  expect_refused(write("renamed.mesh", tetra_off("OFF", "4 3000000 0")), "3000000 faces");
+  // Found by the fuzzer: a face line that does not start with a corner count in [1, 9], with
+  // lines after the faces, segfaulted inside assimp's import.
+  expect_refused(write("skipped.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n"
+                                      "0 1 2 3\n0.4 0.3 -0.03\n0.4 0.3 -0.03\n"),
+                 "OFF face 3 does not start with a corner count in [1, 9]");
+  // Within the limits, more than the file has lines for.
+  expect_refused(write("short.off", tetra_off("OFF", "4 1000 0")), "the file has 10 lines");
+}
+
+// A 96 MB OBJ of "f 1 2 3" lines took assimp to 2.7 GB (~200 B per face).
+TEST_F(HostileMeshes, ObjCountsAreCheckedBeforeAssimpReadsTheFile) {
+  const std::string tetra = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const MeshPtr mesh = load_mesh(write("ok.obj", tetra));
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->triangles.size(), 4u);
+  std::string many = tetra;
+  many.reserve(tetra.size() + 8 * (kMeshMaxFaces + 1));
+  for (std::size_t i = 0; i < kMeshMaxFaces; ++i) many += "f 1 2 3\n";
+  expect_refused(write("faces.obj", many), "OBJ file has 2000004 faces (limit 2000000)");
+  // One face of 6e6 + 1 corners: 6e6 - 1 triangles once split.
+  std::string corners = tetra + "f";
+  corners.reserve(corners.size() + 2 * (3 * kMeshMaxFaces + 1));
+  for (std::size_t i = 0; i < 3 * kMeshMaxFaces - 11; ++i) corners += " 1";
+  expect_refused(write("corners.obj", corners + "\n"), "OBJ faces have 6000001 corners in all (limit 6000000)");
+  // An extension assimp does not know: it picks an importer by content, OBJ among them.
+  expect_refused(write("faces.mesh", many), "OBJ file has 2000004 faces");
+}
+
+// One PLY polygon of 2e6 + 3 corners: post-processing would split it into 2e6 + 1 triangles.
+TEST_F(HostileMeshes, PolygonsAreCountedAsTheTrianglesTheyBecome) {
+  const std::size_t n = kMeshMaxFaces + 3;
+  std::string text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                     "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
+                     "0 0 0\n1 0 0\n0 1 0\n0 0 1\n" + std::to_string(n);
+  text.reserve(text.size() + 2 * n + 1);
+  for (std::size_t i = 0; i < n; ++i) text += i % 2 == 0 ? " 1" : " 2";
+  expect_refused(write("polygon.ply", text + "\n"), "more than 2000000 triangles once polygons are split");
+}
+
 TEST_F(HostileMeshes, DirectoriesAndHugeCoordinatesAreRefused) {
   expect_refused(dir_.string(), "not a regular file");
   expect_refused(write("far.ply", tetra_ply()), "beyond 10000 m", Eigen::Vector3d::Constant(1e9));

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 #include "porter/lcm_guard.hpp"
@@ -12,10 +13,10 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   using porter::minco_trajectory_t;
-  std::vector<std::uint8_t> datagram;
-  const auto hash = static_cast<std::uint64_t>(minco_trajectory_t::getHash());
-  for (int i = 7; i >= 0; --i) datagram.push_back(static_cast<std::uint8_t>(hash >> (8 * i)));
-  datagram.insert(datagram.end(), data, data + size);
+  static const std::uint64_t hash = static_cast<std::uint64_t>(minco_trajectory_t::getHash());
+  std::vector<std::uint8_t> datagram(8 + size);  // exactly the datagram: ASan sees any overread
+  for (int i = 0; i < 8; ++i) datagram[i] = static_cast<std::uint8_t>(hash >> (8 * (7 - i)));
+  if (size > 0) std::memcpy(datagram.data() + 8, data, size);
   if (!porter::lcm_guard_check<minco_trajectory_t>(datagram.data(), datagram.size()).ok) return 0;
   minco_trajectory_t msg;
   const int n = static_cast<int>(datagram.size());

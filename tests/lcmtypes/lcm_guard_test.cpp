@@ -204,5 +204,27 @@ TEST(LcmGuard, BusCountsAndDropsAHostileDatagramAndGoesOn) {
   EXPECT_EQ(bus.decode_failures(), 1u);
 }
 
+// The HEARTBEAT reports drops of every bus in the process (an lcm: CAN bus owns its own LcmBus),
+// including buses that are gone.
+TEST(LcmGuard, ProcessCountSumsEveryBus) {
+  const std::uint64_t before = LcmBus::process_decode_failures();
+  const Bytes hostile = estop_with_source_length(INT32_MIN);
+  const std::string channel(channels::kEstop.name());
+  LcmBus kept("memq://");
+  kept.subscribe(channels::kEstop, [](const estop_t&) {});
+  {
+    LcmBus gone("memq://");
+    gone.subscribe(channels::kEstop, [](const estop_t&) {});
+    for (int i = 0; i < 2; ++i)
+      ASSERT_EQ(gone.lcm().publish(channel, hostile.data(), static_cast<unsigned>(hostile.size())), 0);
+    EXPECT_EQ(gone.handle_pending(), 2);
+    EXPECT_EQ(gone.decode_failures(), 2u);
+  }
+  ASSERT_EQ(kept.lcm().publish(channel, hostile.data(), 7), 0);  // shorter than a fingerprint
+  EXPECT_EQ(kept.handle_pending(), 1);
+  EXPECT_EQ(kept.decode_failures(), 1u);
+  EXPECT_EQ(LcmBus::process_decode_failures() - before, 3u);
+}
+
 }  // namespace
 }  // namespace porter

@@ -157,6 +157,7 @@ TEST(LcmRoundTrip, ProcessHeartbeat) {
   m.status = "3 loop overruns";
   m.loop_rate_hz = 99.7;
   m.loop_overruns = 3;
+  m.dropped_datagrams = 42;
   const process_heartbeat_t r = roundtrip(m);
   EXPECT_EQ(r.utime, m.utime);
   EXPECT_EQ(r.process, m.process);
@@ -167,6 +168,7 @@ TEST(LcmRoundTrip, ProcessHeartbeat) {
   EXPECT_EQ(r.status, m.status);
   EXPECT_EQ(r.loop_rate_hz, m.loop_rate_hz);
   EXPECT_EQ(r.loop_overruns, m.loop_overruns);
+  EXPECT_EQ(r.dropped_datagrams, m.dropped_datagrams);
   expect_rejects(m, estop_t{});
 }
 

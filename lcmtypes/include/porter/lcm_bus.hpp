@@ -15,7 +15,8 @@
 // decoder sees it, so no byte sequence can crash the process or make it read past the datagram.
 // A message that does not decode as the channel's type (wrong type, a truncated buffer, a string
 // length or array count the datagram cannot hold) is dropped and counted in decode_failures(),
-// with the reason in last_error(); a callback that throws is
+// with the reason in last_error() (process_decode_failures() sums them over the process, for
+// its HEARTBEAT); a callback that throws is
 // counted in callback_failures() and its message kept in last_error(). Counted arrays must have
 // their count field equal to the vector size before publish (lcm-gen encodes `count` elements).
 //
@@ -145,6 +146,10 @@ class LcmBus {
 
   /// Messages dropped because they did not decode as the channel's type.
   std::uint64_t decode_failures() const { return decode_failures_.load(); }
+  /// decode_failures() summed over every LcmBus of this process since it started (buses that no
+  /// longer exist included): what the process's HEARTBEAT reports as dropped datagrams, so drops
+  /// on a bus a library owns (e.g. an lcm: CAN bus) are seen too.
+  static std::uint64_t process_decode_failures() { return process_decode_failures_.load(); }
   /// Callbacks that threw; the message is dropped, the bus keeps running.
   std::uint64_t callback_failures() const { return callback_failures_.load(); }
   /// Description of the last decode or callback failure ("" when none).
@@ -173,8 +178,8 @@ class LcmBus {
     void on_message(const lcm::ReceiveBuffer* rbuf, const std::string& channel) {
       const LcmGuardResult guard = lcm_guard_check<T>(rbuf->data, rbuf->data_size);
       if (!guard.ok) {
-        bus->record_failure(bus->decode_failures_, "channel " + channel + ": not a valid " +
-                                                       T::getTypeName() + ": " + guard.describe());
+        bus->record_decode_failure("channel " + channel + ": not a valid " + T::getTypeName() + ": " +
+                                   guard.describe());
         return;
       }
       const int size = static_cast<int>(rbuf->data_size);
@@ -186,9 +191,8 @@ class LcmBus {
         decoded = false;
       }
       if (!decoded) {
-        bus->record_failure(bus->decode_failures_,
-                            "channel " + channel + ": message does not decode as " +
-                                T::getTypeName());
+        bus->record_decode_failure("channel " + channel + ": message does not decode as " +
+                                   T::getTypeName());
         return;
       }
       try {
@@ -210,12 +214,17 @@ class LcmBus {
     counter.fetch_add(1);
     last_error_ = std::move(what);
   }
+  void record_decode_failure(std::string what) {
+    process_decode_failures_.fetch_add(1);
+    record_failure(decode_failures_, std::move(what));
+  }
 
   std::unique_ptr<lcm::LCM> owned_;
   lcm::LCM* lcm_ = nullptr;
   std::vector<std::unique_ptr<Subscription>> subscriptions_;
   SubscriptionId last_id_ = 0;
   std::atomic<std::uint64_t> decode_failures_{0};
+  inline static std::atomic<std::uint64_t> process_decode_failures_{0};
   std::atomic<std::uint64_t> callback_failures_{0};
   std::string last_error_;
 };

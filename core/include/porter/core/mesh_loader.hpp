@@ -12,8 +12,9 @@
 namespace porter {
 
 /// Limits of a mesh file (docs/hardening.md). Checked before assimp allocates (file size, a PLY
-/// header's element counts against the bytes that follow it) and before assimp's
-/// post-processing runs (vertex and face counts, every face index below the vertex count).
+/// header's element counts against the bytes that follow it, an OFF header's counts, an OBJ
+/// file's vertex, face and corner lines) and before assimp's post-processing runs (vertex,
+/// face and post-triangulation counts, every face index below the vertex count).
 inline constexpr std::uintmax_t kMeshMaxFileBytes = std::uintmax_t{256} << 20;
 inline constexpr std::size_t kMeshMaxVertices = 6'000'000;
 inline constexpr std::size_t kMeshMaxFaces = 2'000'000;

@@ -6,7 +6,8 @@
 //   heartbeat.update(HeartbeatHealth::ok, "", loop.measured_rate_hz(), loop.overruns());
 //
 // update() publishes only when a second has passed since the last heartbeat (or immediately
-// when the health changed), so it may be called every loop cycle.
+// when the health changed), so it may be called every loop cycle. Each heartbeat carries the
+// datagrams the process's LCM guard dropped (LcmBus::process_decode_failures()).
 //
 // Thread-safety: one thread calls update(); LcmBus::publish is thread-safe.
 
