@@ -30,6 +30,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "flat_trajectory.hpp"
 #include "porter/channels.hpp"
 #include "porter/core/payload_loader.hpp"
 #include "porter/core/robot_loader.hpp"
@@ -51,18 +52,6 @@ struct Executed {
   porter::StampedTrajectory t;
   std::int64_t received_utime = 0;
 };
-
-porter::validation::FlatTrajectory flat(const porter::Trajectory& t) {
-  std::vector<porter::validation::PolyPiece> pieces;
-  for (const auto& p : t.pieces()) {
-    porter::validation::PolyPiece q;
-    q.duration_s = p.duration_s;
-    q.eta = p.eta;
-    q.coeffs = p.coeffs;
-    pieces.push_back(q);
-  }
-  return porter::validation::FlatTrajectory(pieces, t.start_yaw_rad());
-}
 
 }  // namespace
 
@@ -276,7 +265,7 @@ int main(int argc, char** argv) {
     if (i + 1 < trajectories.size())
       until = std::clamp(static_cast<double>(trajectories[i + 1].t.start_utime - trajectories[i].t.start_utime) * 1e-6,
                          0.0, until);
-    const auto ft = flat(tr);
+    const auto ft = porter::planner_app::to_flat(tr);
     std::vector<double> ts;
     std::vector<porter::validation::WholeBodyConfig> cs;
     for (double t = 0.0;; t += 0.005) {

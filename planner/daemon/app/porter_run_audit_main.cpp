@@ -39,6 +39,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "flat_trajectory.hpp"
 #include "planner_config.hpp"
 #include "planner_messages.hpp"
 #include "planner_node.hpp"
@@ -73,18 +74,6 @@ struct LoggedTrajectory {
 template <class Msg>
 bool decode(const lcm::LogEvent& e, Msg* m) {
   return m->decode(e.data, 0, static_cast<int>(e.datalen)) >= 0;
-}
-
-porter::validation::FlatTrajectory flat(const porter::Trajectory& t) {
-  std::vector<porter::validation::PolyPiece> pieces;
-  for (const auto& p : t.pieces()) {
-    porter::validation::PolyPiece q;
-    q.duration_s = p.duration_s;
-    q.eta = p.eta;
-    q.coeffs = p.coeffs;
-    pieces.push_back(q);
-  }
-  return porter::validation::FlatTrajectory(pieces, t.start_yaw_rad());
 }
 
 /// The scene's obstacles voxelized one by one on the grid's geometry.
@@ -345,7 +334,8 @@ int main(int argc, char** argv) {
     std::printf("\ntrajectory plan %lld, published at %.2f s, %.2f s long, start %.2f s\n",
                 static_cast<long long>(tr.t.plan_id), static_cast<double>(tr.log_utime - t0) * 1e-6,
                 traj.total_duration_s(), static_cast<double>(tr.t.start_utime - t0) * 1e-6);
-    const auto report = porter::validation::validate_trajectory(robot, payload, scene, flat(traj));
+    const auto report = porter::validation::validate_trajectory(robot, payload, scene,
+                                                                porter::planner_app::to_flat(traj));
     const porter::validation::ObstacleClearance* worst = nullptr;
     for (const auto& o : report.clearances)
       if (!worst || o.min_m < worst->min_m) worst = &o;
