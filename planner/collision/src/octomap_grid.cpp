@@ -20,9 +20,16 @@ OccupancyGrid occupancy_from_octomap(const octomap::OcTree& tree, const Eigen::A
   const Eigen::Vector3d lo = (bounds.min() / res).array().floor() * res;
   const Eigen::Vector3d hi = (bounds.max() / res).array().ceil() * res;
   OccupancyGrid grid(lo, res, ((hi - lo) / res).array().round().cast<int>().max(1).matrix());
+  mark_octomap_leaves(tree, true, grid);
+  return grid;
+}
+
+void mark_octomap_leaves(const octomap::OcTree& tree, bool occupied, OccupancyGrid& grid) {
+  const double res = grid.resolution_m();
   const Eigen::Vector3i& n = grid.dims();
+  const Eigen::Vector3d& lo = grid.origin_W();
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    if (!tree.isNodeOccupied(*it)) continue;
+    if (tree.isNodeOccupied(*it) != occupied) continue;
     const double half = 0.5 * it.getSize();
     const Eigen::Vector3d c(it.getX(), it.getY(), it.getZ());
     // Voxels whose centres lie inside the leaf's cube (the cube is a union of whole voxels).
@@ -35,7 +42,6 @@ OccupancyGrid occupancy_from_octomap(const octomap::OcTree& tree, const Eigen::A
       for (int y = a.y(); y <= b.y(); ++y)
         for (int x = a.x(); x <= b.x(); ++x) grid.set(x, y, z);
   }
-  return grid;
 }
 
 }  // namespace porter::planner

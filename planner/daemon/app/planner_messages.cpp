@@ -192,19 +192,7 @@ std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyG
   const Eigen::Vector3i& n = grid.dims();
   const Eigen::Vector3d& lo = grid.origin_W();
   OccupancyGrid free_W(lo, res, n);
-  for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
-    if (tree.isNodeOccupied(*it)) continue;
-    const double half = 0.5 * it.getSize();
-    const Eigen::Vector3d c(it.getX(), it.getY(), it.getZ());
-    Eigen::Vector3i a, b;
-    for (int k = 0; k < 3; ++k) {
-      a[k] = std::max(0, static_cast<int>(std::ceil((c[k] - half - lo[k]) / res - 0.5)));
-      b[k] = std::min(n[k] - 1, static_cast<int>(std::floor((c[k] + half - lo[k]) / res - 0.5)));
-    }
-    for (int z = a.z(); z <= b.z(); ++z)
-      for (int y = a.y(); y <= b.y(); ++y)
-        for (int x = a.x(); x <= b.x(); ++x) free_W.set(x, y, z);
-  }
+  planner::mark_octomap_leaves(tree, /*occupied=*/false, free_W);
   // Known free within kFillGapVoxels on both sides along x, or along y.
   auto gap = [&](int x, int y, int z) {
     auto side = [&](int dx, int dy) {

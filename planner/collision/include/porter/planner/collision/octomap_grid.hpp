@@ -24,4 +24,10 @@ namespace porter::planner {
 /// voxels. An empty bounds box uses the tree's metric bounding box.
 OccupancyGrid occupancy_from_octomap(const octomap::OcTree& tree, const Eigen::AlignedBox3d& bounds_W);
 
+/// Sets, on `grid` (its own origin, resolution and size; the tree's resolution must be the
+/// grid's), every voxel whose centre lies inside a leaf of the tree that is occupied
+/// (`occupied` = true) or known free (`occupied` = false). Leaves may span several voxels;
+/// voxels outside the grid are skipped.
+void mark_octomap_leaves(const octomap::OcTree& tree, bool occupied, OccupancyGrid& grid);
+
 }  // namespace porter::planner
