@@ -170,8 +170,8 @@ TEST_F(RobotLoaderTest, MeshGeometryLoadsAndBadMeshesAreReported) {
 // Hostile robot files: every example the robot loader used to accept or crash on.
 TEST_F(RobotLoaderTest, NonPhysicalUrdfGeometryIsRefused) {
   const std::string box = "<box size=\"0.25 0.06 0.07\"/>";
-  for (const std::string& size : {"0 0.06 0.07", "-0.25 0.06 0.07", "1e9 0.06 0.07"})
-    expect_error(replace(urdf_, box, "<box size=\"" + size + "\"/>"), yaml_,
+  for (const char* size : {"0 0.06 0.07", "-0.25 0.06 0.07", "1e9 0.06 0.07"})
+    expect_error(replace(urdf_, box, std::string("<box size=\"") + size + "\"/>"), yaml_,
                  {"scout_mini_piper.urdf", "link 'link2' collision[0]", "box size x must be finite, > 0 and at most 5 m"});
   // urdfdom cannot parse "nan", logs it, drops the collision element and returns a model; the
   // loader refuses the file with urdfdom's reason.

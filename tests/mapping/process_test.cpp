@@ -104,7 +104,9 @@ TEST(MapperProcess, CloudsInMapsAndHeartbeatOut) {
   EXPECT_EQ(received, 10) << heartbeat << "\n" << mapper.log();
   EXPECT_EQ(processed + dropped, 10) << heartbeat;
   EXPECT_GE(busy, dropped);
-  if (dropped > 0) EXPECT_NE(mapper.log().find("clouds arrived while busy"), std::string::npos);
+  if (dropped > 0) {
+    EXPECT_NE(mapper.log().find("clouds arrived while busy"), std::string::npos);
+  }
   ASSERT_FALSE(maps.empty()) << mapper.log();
   const porter::octomap_t& last = maps.back();
   EXPECT_GT(last.num_bytes, 100);

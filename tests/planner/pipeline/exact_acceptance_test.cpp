@@ -120,7 +120,9 @@ TEST(ExactAcceptance, TheKernelFilterKeepsTheExactVerdict) {
     EXPECT_EQ(rs.accepted, rf.accepted) << "gap " << gap << ": exact " << cs.min_m << " m";
     EXPECT_GT(cf.filter_samples, 10);
     (rs.accepted ? accepted : rejected)++;
-    if (gap >= 3.5) EXPECT_EQ(cf.windows, 0) << "far from the wall the filter clears everything";
+    if (gap >= 3.5) {
+      EXPECT_EQ(cf.windows, 0) << "far from the wall the filter clears everything";
+    }
   }
   EXPECT_GT(accepted, 0);
   EXPECT_GT(rejected, 0);
