@@ -201,7 +201,10 @@ int main(int argc, char** argv) {
     app::CycleReport* slot = reports.slot_to_fill();
     app::CycleReport& r = slot != nullptr ? *slot : unqueued;
     r.log.clear();
-    for (app::InputEvent* e = inputs.front(); e != nullptr; e = inputs.front()) {
+    // At most one ring's worth per period, so a flood of inputs cannot hold the step back.
+    for (std::size_t n = 0; n < inputs.capacity(); ++n) {
+      app::InputEvent* e = inputs.front();
+      if (e == nullptr) break;
       app::apply_input(tracker, *e, r.log);
       inputs.pop();
     }
