@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -13,6 +14,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <cmath>
 #include <fstream>
@@ -79,7 +81,11 @@ std::string read_file(const std::string& path) {
 }
 
 TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
-  const std::string dir = testing::TempDir();
+  // File names carry the pid: another run of this test at the same time (another build tree on
+  // the same machine) must not overwrite the logs and the stats file this one reads.
+  const std::string dir = testing::TempDir() + "/porter_tracker_multiprocess_" +
+                          std::to_string(::getpid());
+  ::mkdir(dir.c_str(), 0755);
   // The shipped tracker config, without SCHED_FIFO (tests share the machine), robot path absolute.
   std::string config = read_file(std::string(PORTER_SOURCE_DIR) +
                                  "/config/tracker/porter_tracker.yaml");
@@ -243,6 +249,7 @@ TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
   const std::string stats = read_file(stats_path);
   EXPECT_NE(stats.find("\"period_jitter_us\""), std::string::npos) << stats;
   EXPECT_NE(stats.find("\"command_latency_us\""), std::string::npos) << stats;
+  if (!HasFailure()) std::filesystem::remove_all(dir);  // kept for a look when it failed
 }
 
 }  // namespace
