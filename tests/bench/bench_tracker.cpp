@@ -7,7 +7,9 @@
 //     max, from the process's own statistics (its --stats-out JSON, written at SIGTERM);
 //   - BASE_CMD one-way latency on loopback udpm: receive time here minus the message's utime
 //     (the tracker stamps it just before publishing; same host, same clock), taken by a thread
-//     blocked in lcm_handle;
+//     blocked in lcm_handle; and the arrival part of it: the kernel's receive timestamp of the
+//     datagram (LCM's recv_utime, SO_TIMESTAMP) minus utime, which leaves out this program's
+//     own wake-up (LCM's receive thread, then the handling thread, both SCHED_OTHER);
 //   - the tracking errors the tracker reported, to show it was tracking throughout.
 // Nothing here is a test; figures depend on the machine and its load.
 //
@@ -38,6 +40,13 @@
 #include "private_lcm_url.hpp"
 
 namespace {
+
+std::string load_average() {
+  std::ifstream in("/proc/loadavg");
+  std::string line;
+  std::getline(in, line);
+  return line.empty() ? "unknown" : line;
+}
 
 double quantile(std::vector<double> v, double q) {
   if (v.empty()) return 0.0;
@@ -81,10 +90,22 @@ int main(int argc, char** argv) {
   latency_us.reserve(static_cast<std::size_t>(duration_s * 110));
   double max_cross_m = 0.0, max_along_m = 0.0;
   std::int64_t tracking_reports = 0, other_reports = 0;
+  // LCM calls a channel's handlers in subscription order: the raw one (kernel receive time)
+  // runs just before the typed one for the same datagram.
+  std::vector<double> arrival_us;
+  arrival_us.reserve(latency_us.capacity());
+  std::int64_t recv_utime = 0;
+  listen_bus.lcm().subscribeFunction(
+      std::string(porter::channels::kBaseCmd.name()),
+      +[](const lcm::ReceiveBuffer* rbuf, const std::string&, std::int64_t* out) {
+        *out = rbuf->recv_utime;
+      },
+      &recv_utime);
   listen_bus.subscribe(porter::channels::kBaseCmd, [&](const porter::base_cmd_t& m) {
     const double lat = static_cast<double>(porter::runtime::wall_utime() - m.utime);
     std::lock_guard<std::mutex> lock(mutex);
     latency_us.push_back(lat);
+    arrival_us.push_back(static_cast<double>(recv_utime - m.utime));
     last_cmd = m;
   });
   listen_bus.subscribe(porter::channels::kTrackerStatus, [&](const porter::tracker_status_t& m) {
@@ -110,8 +131,8 @@ int main(int argc, char** argv) {
           "--stats-out", stats.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
-  std::printf("porter-tracker pid %d on %s for %.0f s (log %s)\n", pid, url.c_str(), duration_s,
-              log.c_str());
+  std::printf("porter-tracker pid %d on %s for %.0f s (log %s); load average %s\n", pid,
+              url.c_str(), duration_s, log.c_str(), load_average().c_str());
   std::fflush(stdout);
 
   // A circle of radius 1.5 m at 0.4 m/s, long enough for the whole run, starting 0.5 s from now.
@@ -166,13 +187,18 @@ int main(int argc, char** argv) {
 
   std::ifstream in(stats);
   const std::string json((std::istreambuf_iterator<char>(in)), {});
-  std::printf("porter-tracker exit status %d; its statistics (%s):\n%s", WEXITSTATUS(status),
-              stats.c_str(), json.empty() ? "(none written)\n" : json.c_str());
+  std::printf("porter-tracker exit status %d; load average %s; its statistics (%s):\n%s",
+              WEXITSTATUS(status), load_average().c_str(), stats.c_str(),
+              json.empty() ? "(none written)\n" : json.c_str());
   std::lock_guard<std::mutex> lock(mutex);
   std::printf("BASE_CMD one-way latency, udpm loopback, %zu messages: p50 %.0f us, p99 %.0f us, "
               "p99.9 %.0f us, max %.0f us\n",
               latency_us.size(), quantile(latency_us, 0.5), quantile(latency_us, 0.99),
               quantile(latency_us, 0.999), quantile(latency_us, 1.0));
+  std::printf("BASE_CMD utime to kernel receive timestamp, %zu messages: p50 %.0f us, p99 %.0f us, "
+              "p99.9 %.0f us, max %.0f us\n",
+              arrival_us.size(), quantile(arrival_us, 0.5), quantile(arrival_us, 0.99),
+              quantile(arrival_us, 0.999), quantile(arrival_us, 1.0));
   std::printf("TRACKER_STATUS: %lld TRACKING reports (max |cross-track| %.4f m, max |along-track| "
               "%.4f m), %lld in other states\n",
               static_cast<long long>(tracking_reports), max_cross_m, max_along_m,

@@ -6,12 +6,15 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <fcntl.h>
 
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <cmath>
 #include <fstream>
@@ -78,7 +81,11 @@ std::string read_file(const std::string& path) {
 }
 
 TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
-  const std::string dir = testing::TempDir();
+  // File names carry the pid: another run of this test at the same time (another build tree on
+  // the same machine) must not overwrite the logs and the stats file this one reads.
+  const std::string dir = testing::TempDir() + "/porter_tracker_multiprocess_" +
+                          std::to_string(::getpid());
+  ::mkdir(dir.c_str(), 0755);
   // The shipped tracker config, without SCHED_FIFO (tests share the machine), robot path absolute.
   std::string config = read_file(std::string(PORTER_SOURCE_DIR) +
                                  "/config/tracker/porter_tracker.yaml");
@@ -97,15 +104,20 @@ TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
   arm_cmd_t last_arm;
   bool arm_cmd = false;
   bool finished_seen = false;
+  int estop_reports = 0;
   bus.subscribe(channels::kRobotState, [&](const robot_state_t& m) { last_state = m; ++states; });
   bus.subscribe(channels::kBaseCmd, [&](const base_cmd_t& m) { last_cmd = m; ++cmds; });
   bus.subscribe(channels::kArmCmd, [&](const arm_cmd_t& m) { last_arm = m; arm_cmd = true; });
   bus.subscribe(channels::kTrackerStatus, [&](const tracker_status_t& m) {
     if (m.state == tracker_status_t::STATE_FINISHED) finished_seen = true;
+    if (m.state == tracker_status_t::STATE_ESTOP) ++estop_reports;
   });
 
   Child state(PORTER_STATE_BIN, {"--lcm-url", kUrl}, dir + "/porter_state_multiprocess.log");
-  Child tracker(PORTER_TRACKER_BIN, {"--lcm-url", kUrl, "--config", config_path},
+  const std::string stats_path = dir + "/porter_tracker_multiprocess_stats.json";
+  std::remove(stats_path.c_str());
+  Child tracker(PORTER_TRACKER_BIN,
+                {"--lcm-url", kUrl, "--config", config_path, "--stats-out", stats_path},
                 dir + "/porter_tracker_multiprocess.log");
   ASSERT_GT(state.pid(), 0);
   ASSERT_GT(tracker.pid(), 0);
@@ -206,12 +218,38 @@ TEST(TrackerProcesses, StateAndTrackerDriveASimulatedBase) {
   feed_base = true;
   EXPECT_TRUE(run(1.0, [&] { return last_state.base_valid; }));
 
+  // 5. ESTOP: the commands turn disabled and TRACKER_STATUS reports ESTOP; the release leaves
+  //    the tracker without a trajectory (commands stay disabled).
+  EXPECT_TRUE(run(1.0, [&] { return last_cmd.enabled; }));  // holding the end again
+  estop_t estop{};
+  estop.utime = runtime::wall_utime();
+  estop.active = true;
+  estop.source = "multiprocess-test";
+  estop.reason = "stop button";
+  bus.publish(channels::kEstop, estop);
+  EXPECT_TRUE(run(2.0, [&] { return !last_cmd.enabled && estop_reports > 0; }));
+  estop.utime = runtime::wall_utime();
+  estop.active = false;
+  estop.reason.clear();
+  bus.publish(channels::kEstop, estop);
+  const int cmds_at_release = cmds;
+  run(0.3, {});
+  EXPECT_GT(cmds, cmds_at_release);
+  EXPECT_FALSE(last_cmd.enabled);
+  EXPECT_EQ(last_cmd.plan_id, -1);
+
   EXPECT_EQ(tracker.stop(), 0);
   EXPECT_EQ(state.stop(), 0);
   const std::string log = read_file(dir + "/porter_tracker_multiprocess.log");
   EXPECT_NE(log.find("plan 1 accepted"), std::string::npos) << log;
   EXPECT_NE(log.find("state FINISHED"), std::string::npos) << log;
   EXPECT_NE(log.find("period jitter"), std::string::npos) << log;
+  EXPECT_NE(log.find("ESTOP engaged by multiprocess-test (stop button)"), std::string::npos) << log;
+  EXPECT_NE(log.find("ESTOP released by multiprocess-test"), std::string::npos) << log;
+  const std::string stats = read_file(stats_path);
+  EXPECT_NE(stats.find("\"period_jitter_us\""), std::string::npos) << stats;
+  EXPECT_NE(stats.find("\"command_latency_us\""), std::string::npos) << stats;
+  if (!HasFailure()) std::filesystem::remove_all(dir);  // kept for a look when it failed
 }
 
 }  // namespace
