@@ -58,13 +58,38 @@ SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
 
 void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& initial) {
   body_.reset(initial);
-  // Once per map: every surface voxel of the map (and the ground layer under it); the per-piece
-  // prefilter visits only the index cells near the trajectory, so no cropping is needed.
   const std::uint64_t key = map_key(map_W);
-  if (key != map_key_) {
+  if (settings_.selection_slack_m > 0.0) {
+    // Once per map and warm start region (header comment "Selection").
+    if (key != map_key_) {
+      map_ = map_W;
+      map_key_ = key;
+      selection_ = CellMask();
+      keys_.clear();
+      points_.clear();
+    }
+    if (selection_.empty()) {
+      Eigen::AlignedBox3d bounds = map_.bounds_W();
+      bounds.min().z() -= map_.resolution_m();  // the ground layer lies half a voxel below the map
+      selection_ = CellMask(bounds, kSelectCell_m);
+      mark_boxes(selection_, settings_.selection_slack_m);
+      collect_selected();
+    } else if (!selection_covers_body()) {
+      // Same map, another warm start (the warm-start choice prepares each): the selection grows.
+      mark_boxes(selection_, settings_.selection_slack_m);
+      collect_selected();
+    }
+  } else if (key != map_key_) {
+    // Once per map: every surface voxel of the map (and the ground layer under it); the per-piece
+    // prefilter visits only the index cells near the trajectory, so no cropping is needed.
+    const auto t0 = std::chrono::steady_clock::now();
     points_ = collect_obstacle_points(map_W, map_W.bounds_W(), settings_.points);
     map_key_ = key;
+    selection_ = CellMask();
+    keys_.clear();
     index_points();
+    ++collections_;
+    collection_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   hints_.assign(points_.size(), no_hints());
   for (int j = 0; j < kNumLinks; ++j) {
@@ -73,6 +98,67 @@ void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& init
         l.empty() ? -std::numeric_limits<double>::infinity() : 0.5 * map_W.resolution_m() - l.fine().error_bound_m();
   }
   refresh_decisions();
+}
+
+double SvsdfSafetyTerm::level1_radius_m(int link) const {
+  const auto j = static_cast<std::size_t>(link);
+  return std::max(margin_[j], ground_margin_[j]) + sdf_->link(link).fine().error_bound_m();
+}
+
+void SvsdfSafetyTerm::mark_boxes(CellMask& mask, double grow_m) const {
+  const int pieces = body_.trajectory().num_pieces();
+  for (int j = 0; j < kNumLinks; ++j) {
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(level1_radius_m(j) + grow_m);
+    for (int i = 0; i < pieces; ++i) {
+      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+      if (!box.isEmpty()) mask.add(Eigen::AlignedBox3d(box.min() - grow, box.max() + grow));
+    }
+  }
+}
+
+bool SvsdfSafetyTerm::selection_covers_body() const {
+  const int pieces = body_.trajectory().num_pieces();
+  for (int j = 0; j < kNumLinks; ++j) {
+    // Level 1 lets a point through for (j, i) only if it lies within r_j of the box (in every
+    // axis, a fortiori), i.e. inside the box grown by r_j.
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(level1_radius_m(j));
+    for (int i = 0; i < pieces; ++i) {
+      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+      if (!box.isEmpty() && !selection_.covers(Eigen::AlignedBox3d(box.min() - grow, box.max() + grow))) return false;
+    }
+  }
+  return true;
+}
+
+void SvsdfSafetyTerm::collect_selected() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::uint64_t> keys;
+  std::vector<ObstaclePoint> points =
+      collect_obstacle_points(map_, map_.bounds_W(), settings_.points, &selection_, &keys);
+  // Carry every kept point's hints and frozen decisions over (both key lists increase).
+  std::vector<TimeHints> hints(points.size(), no_hints());
+  std::vector<std::unique_ptr<BallDecisions>> decisions(points.size());
+  const bool have_hints = hints_.size() == points_.size() && keys_.size() == points_.size();
+  const bool have_decisions = decisions_.size() == points_.size() && keys_.size() == points_.size();
+  for (std::size_t a = 0, b = 0; a < keys_.size() && b < keys.size();) {
+    if (keys_[a] < keys[b]) {
+      ++a;
+    } else if (keys[b] < keys_[a]) {
+      ++b;
+    } else {
+      if (have_hints) hints[b] = hints_[a];
+      if (have_decisions) decisions[b] = std::move(decisions_[a]);
+      ++a;
+      ++b;
+    }
+  }
+  points_ = std::move(points);
+  keys_ = std::move(keys);
+  hints_ = std::move(hints);
+  decisions_ = std::move(decisions);
+  index_points();
+  ++collections_;
+  collection_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 void SvsdfSafetyTerm::refresh_decisions() {
@@ -271,10 +357,17 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
 double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradient& grad, SafetyStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   body_.reset(trajectory);
+  if (selecting() && !selection_covers_body()) {
+    // A link left the selected region: grow it around the current trajectory.
+    mark_boxes(selection_, settings_.selection_slack_m);
+    collect_selected();
+  }
   if (cell_start_.size() < 2) index_points();  // points set by set_points()
   if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
   if (decisions_.size() != points_.size()) refresh_decisions();
+  const auto t_prefilter = std::chrono::steady_clock::now();
   find_candidates();
+  const double prefilter_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prefilter).count();
   team_->run([this, &trajectory](int w) { run(*workers_[static_cast<std::size_t>(w)], w, trajectory); });
   record_next_ = false;
   SafetyStats total;
@@ -291,6 +384,7 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
     total.min_distance_m = std::min(total.min_distance_m, w->stats.min_distance_m);
   }
   total.cost = cost;
+  total.prefilter_s = prefilter_s;
   total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = total;
   return cost;
