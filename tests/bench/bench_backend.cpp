@@ -394,6 +394,29 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
         whole_s += b.time_s;
         whole_pf += b.prefilter_s;
       }
+      {
+        // The prefilter's candidate lists (prefilter_slack_m) against the point index searched at
+        // every evaluation, evaluations alternated (the lists are read from the second one on).
+        backend::SvsdfSafetySettings no_lists = term_settings(*s).svsdf;
+        no_lists.prefilter_slack_m = 0.0;
+        backend::SvsdfSafetyTerm lists(s->model, *s->sdf, term_settings(*s).svsdf), index(s->model, *s->sdf, no_lists);
+        lists.prepare(s->grid, *w.trajectory);
+        index.prepare(s->grid, *w.trajectory);
+        double l_pf = 0.0, i_pf = 0.0, l_s = 0.0, i_s = 0.0;
+        for (int k = 0; k < reps; ++k) {
+          grad.reset(w.trajectory->num_pieces());
+          lists.evaluate(*w.trajectory, grad, &a);
+          l_s += a.time_s;
+          l_pf += a.prefilter_s;
+          grad.reset(w.trajectory->num_pieces());
+          index.evaluate(*w.trajectory, grad, &b);
+          i_s += b.time_s;
+          i_pf += b.prefilter_s;
+        }
+        std::printf("   candidate lists: eval %.2f ms (prefilter %.2f) vs index every time %.2f ms (prefilter %.2f); pairs reused %lld, searched %lld\n",
+                    1e3 * l_s / reps, 1e3 * l_pf / reps, 1e3 * i_s / reps, 1e3 * i_pf / reps,
+                    static_cast<long long>(lists.pairs_reused()), static_cast<long long>(lists.pairs_searched()));
+      }
       std::printf("   selection: prepare %.1f ms (%zu points) vs whole map %.1f ms (%zu points); eval %.2f ms (prefilter %.2f) vs %.2f ms (prefilter %.2f); J_s %.10g vs %.10g\n",
                   1e3 * sel_prep, sel.points().size(), 1e3 * whole_prep, whole.points().size(), 1e3 * sel_s / reps,
                   1e3 * sel_pf / reps, 1e3 * whole_s / reps, 1e3 * whole_pf / reps, c_sel, c_whole);

@@ -225,14 +225,16 @@ Trajectory shifted_y(const Trajectory& traj, double dy) {
 }
 
 TEST(BackendWarmStart, TunnelSeed1PointSelectionGivesTheWholeMapsPenaltyAndGradient) {
-  // The selection of points near the warm start (SvsdfSafetySettings::selection_slack_m) against
-  // the whole map's points, along one round: the warm start (a refresh point: decisions recorded),
+  // The selection of points near the warm start (SvsdfSafetySettings::selection_slack_m) and the
+  // prefilter's candidate lists (prefilter_slack_m) against the whole map's points with the point
+  // index searched at every evaluation, along one round: the warm start (a refresh point: decisions recorded),
   // a small move that stays inside the selection, a move of 0.6 m that leaves it (the points are
   // collected again, hints and decisions carried over), the warm start again (decisions replayed),
   // and a second round from there.
   const TunnelCase tc = tunnel_case();
   SvsdfSafetySettings whole_settings = tc.settings;
   whole_settings.selection_slack_m = 0.0;
+  whole_settings.prefilter_slack_m = 0.0;  // and no candidate lists: the index searched every time
   SvsdfSafetyTerm selected(*tc.model, *tc.sdf, tc.settings), whole(*tc.model, *tc.sdf, whole_settings);
   const Trajectory& w = *tc.ws.trajectory;
   selected.prepare(tc.grid, w);

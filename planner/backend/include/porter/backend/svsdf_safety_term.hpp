@@ -31,6 +31,17 @@
 // chosen larger than any depth of interest, so a solve that only repairs the warm start stays
 // inside; a larger slack keeps more points (the per-evaluation passes over all points grow), a
 // smaller one collects more often. Any slack > 0 gives the same J_s.
+// Candidate lists (prefilter_slack_m > 0, the default): the prefilter's first level searches the
+// point index around each (link j, piece i) box. When it does, it also records the pair's list:
+// the points with link j's bit inside the box grown by r_j + slack in every axis. A later
+// evaluate() whose box for the pair lies inside the recorded box grown by the slack runs the three
+// levels on the list alone: a point the first level lets through lies inside the current box
+// grown by r_j, hence inside the recorded one grown by r_j + slack, so it is on the list; the
+// masks, and everything after them, are those of the index search. A pair whose box moved farther
+// searches the index again (and records a new list). Why 2 cm: line-search trials and the
+// first-step probe move the trajectory by millimetres to centimetres (the probe sets the first trial
+// to the Newton step), so most pairs keep their lists between evaluations, while the lists hold
+// only a 2 cm shell more than the first level can let through.
 // Prefilter (paper: AABB test around the trajectory), per evaluate(): a point is asked
 // only for the links j that can come within s_j of it (elsewhere d_j > s_j, so the penalty and its
 // gradient are zero) and skipped with no such link. Two levels: the link's world AABB swept over a
@@ -109,6 +120,10 @@ struct SvsdfSafetySettings {
   /// options still follow the box levels' mask, so every evaluated pair's D_j is the same too.
   /// false: the reference (two levels only).
   bool sdf_prefilter = true;
+  /// Candidate lists (header comment "Candidate lists"): how far, m, a (link, piece) box may move
+  /// from where its list was made before the point index is searched again. <= 0: the index is
+  /// searched for every pair at every evaluation (the reference).
+  double prefilter_slack_m = 0.02;
   /// Selection of the map's obstacle points near the trajectory (header comment "Selection"): how
   /// far, m, a link may move from where the selection was made before the points are collected
   /// again. <= 0: every point of the map (the reference).
@@ -154,6 +169,10 @@ class SvsdfSafetyTerm : public SafetyTerm {
   int collections() const { return collections_; }
   /// Wall time of those collections, s.
   double collection_s() const { return collection_s_; }
+  /// (link, piece) pairs of the prefilter that read their candidate list / searched the point
+  /// index, over every evaluate() since construction.
+  std::int64_t pairs_reused() const;
+  std::int64_t pairs_searched() const;
 
  private:
   struct Worker {
@@ -166,6 +185,14 @@ class SvsdfSafetyTerm : public SafetyTerm {
     double cost = 0.0;
     std::vector<std::uint32_t> masks;  ///< find_candidates' bits for this worker's links
     std::vector<std::uint32_t> tight;  ///< the subset passing the SDF level (sdf_prefilter)
+    std::int64_t pairs_reused = 0;     ///< (link, piece) pairs that read their candidate list
+    std::int64_t pairs_searched = 0;   ///< pairs that searched the point index
+  };
+  /// A (link, piece) pair's candidate list (header comment "Candidate lists").
+  struct PairList {
+    bool valid = false;
+    Eigen::AlignedBox3d box;   ///< the pair's swept box when the list was made
+    std::vector<int> points;   ///< every point with the link's bit inside box grown by r_j + slack
   };
   /// Cell edge of the point index, m (about a link's swept box per piece).
   static constexpr double kCell_m = 0.25;
@@ -224,6 +251,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   /// Links point i is evaluated for (masks_ narrowed by the SDF level; bit 0 as in masks_).
   std::vector<std::uint32_t> tight_;
   std::vector<int> candidates_;
+  /// Per (link j, piece i), numbered j * pieces + i; each is touched by one worker per evaluation.
+  std::vector<PairList> pair_lists_;
 };
 
 }  // namespace porter::backend
