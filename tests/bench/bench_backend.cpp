@@ -424,8 +424,8 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
     std::fflush(stdout);
     if (w.collision_free) continue;
     const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
-    std::printf("   back-end: %s %.0f ms, iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
-                planner::to_string(r.status), 1e3 * r.elapsed_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
+    std::printf("   back-end: %s %.0f ms (prepare %.1f ms), iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
+                planner::to_string(r.status), 1e3 * r.elapsed_s, 1e3 * r.prepare_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
                 r.rechecks, 1e3 * r.recheck_s, r.rounds, r.initial_cost.safety, r.final_cost.safety,
                 backend::to_string(r.check), r.collision_link, r.message.c_str());
     std::fflush(stdout);

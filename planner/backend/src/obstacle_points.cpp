@@ -99,8 +99,6 @@ std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
       const int j = static_cast<int>(row % ny);
       const int k = static_cast<int>(row / ny);
       if (i < lo.x() || i > hi.x() || j < lo.y() || j > hi.y() || k < lo.z() || k > hi.z()) continue;
-      // The mask first: it is one look-up, the surface test six.
-      if (keep && !keep->contains(map.voxel_center_W(i, j, k))) continue;
       if (settings.surface_only && occupied_or_outside(i - 1, j, k) && occupied_or_outside(i + 1, j, k) &&
           occupied_or_outside(i, j - 1, k) && occupied_or_outside(i, j + 1, k) &&
           occupied_or_outside(i, j, k - 1) && occupied_or_outside(i, j, k + 1)) {
@@ -108,6 +106,9 @@ std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
       }
       const Eigen::Vector3d c = map.voxel_center_W(i, j, k);
       if (!region.contains(c)) continue;
+      // After the surface test, which drops most occupied voxels (the interior of solid
+      // obstacles) after a few look-ups: the mask is asked only about surface voxels.
+      if (keep && !keep->contains(c)) continue;
       out.push_back({c, (1u << kNumLinks) - 1, false});
       if (keys) keys->push_back(static_cast<std::uint64_t>(idx));
     }
