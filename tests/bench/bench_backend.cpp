@@ -370,11 +370,62 @@ void bench_profile(const std::string& name, double h_b, int first_seed, int seed
       std::printf("   alternated: eval %.2f ms, reference (lean_scan off, sdf_prefilter off) %.2f ms; J_s %.10g vs %.10g; %d vs %d link queries\n",
                   1e3 * fast_s / reps, 1e3 * ref_s / reps, c_fast, c_ref, st.link_queries, st_ref.link_queries);
     }
+    {
+      // The selection of points near the warm start (selection_slack_m) against the whole map's
+      // points: preparation (a fresh term each, as in a plan), then evaluations alternated.
+      backend::SvsdfSafetySettings whole_settings = term_settings(*s).svsdf;
+      whole_settings.selection_slack_m = 0.0;
+      backend::SvsdfSafetyTerm sel(s->model, *s->sdf, term_settings(*s).svsdf), whole(s->model, *s->sdf, whole_settings);
+      auto t1 = Clock::now();
+      sel.prepare(s->grid, *w.trajectory);
+      const double sel_prep = since(t1);
+      t1 = Clock::now();
+      whole.prepare(s->grid, *w.trajectory);
+      const double whole_prep = since(t1);
+      double sel_s = 0.0, whole_s = 0.0, sel_pf = 0.0, whole_pf = 0.0, c_sel = 0.0, c_whole = 0.0;
+      backend::SafetyStats a, b;
+      for (int k = 0; k < reps; ++k) {
+        grad.reset(w.trajectory->num_pieces());
+        c_sel = sel.evaluate(*w.trajectory, grad, &a);
+        sel_s += a.time_s;
+        sel_pf += a.prefilter_s;
+        grad.reset(w.trajectory->num_pieces());
+        c_whole = whole.evaluate(*w.trajectory, grad, &b);
+        whole_s += b.time_s;
+        whole_pf += b.prefilter_s;
+      }
+      {
+        // The prefilter's candidate lists (prefilter_slack_m) against the point index searched at
+        // every evaluation, evaluations alternated (the lists are read from the second one on).
+        backend::SvsdfSafetySettings no_lists = term_settings(*s).svsdf;
+        no_lists.prefilter_slack_m = 0.0;
+        backend::SvsdfSafetyTerm lists(s->model, *s->sdf, term_settings(*s).svsdf), index(s->model, *s->sdf, no_lists);
+        lists.prepare(s->grid, *w.trajectory);
+        index.prepare(s->grid, *w.trajectory);
+        double l_pf = 0.0, i_pf = 0.0, l_s = 0.0, i_s = 0.0;
+        for (int k = 0; k < reps; ++k) {
+          grad.reset(w.trajectory->num_pieces());
+          lists.evaluate(*w.trajectory, grad, &a);
+          l_s += a.time_s;
+          l_pf += a.prefilter_s;
+          grad.reset(w.trajectory->num_pieces());
+          index.evaluate(*w.trajectory, grad, &b);
+          i_s += b.time_s;
+          i_pf += b.prefilter_s;
+        }
+        std::printf("   candidate lists: eval %.2f ms (prefilter %.2f) vs index every time %.2f ms (prefilter %.2f); pairs reused %lld, searched %lld\n",
+                    1e3 * l_s / reps, 1e3 * l_pf / reps, 1e3 * i_s / reps, 1e3 * i_pf / reps,
+                    static_cast<long long>(lists.pairs_reused()), static_cast<long long>(lists.pairs_searched()));
+      }
+      std::printf("   selection: prepare %.1f ms (%zu points) vs whole map %.1f ms (%zu points); eval %.2f ms (prefilter %.2f) vs %.2f ms (prefilter %.2f); J_s %.10g vs %.10g\n",
+                  1e3 * sel_prep, sel.points().size(), 1e3 * whole_prep, whole.points().size(), 1e3 * sel_s / reps,
+                  1e3 * sel_pf / reps, 1e3 * whole_s / reps, 1e3 * whole_pf / reps, c_sel, c_whole);
+    }
     std::fflush(stdout);
     if (w.collision_free) continue;
     const backend::BackendResult r = run_backend(*s, w, baselines::SafetyModel::kKcSvsdf, 0.3);
-    std::printf("   back-end: %s %.0f ms, iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
-                planner::to_string(r.status), 1e3 * r.elapsed_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
+    std::printf("   back-end: %s %.0f ms (prepare %.1f ms), iterations %d, evaluations %d, safety %.0f ms, rechecks %d (%.0f ms), rounds %d, J_s %.3g -> %.3g, check %s (link %d) | %s\n",
+                planner::to_string(r.status), 1e3 * r.elapsed_s, 1e3 * r.prepare_s, r.iterations, r.evaluations, 1e3 * r.safety_s,
                 r.rechecks, 1e3 * r.recheck_s, r.rounds, r.initial_cost.safety, r.final_cost.safety,
                 backend::to_string(r.check), r.collision_link, r.message.c_str());
     std::fflush(stdout);

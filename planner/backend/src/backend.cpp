@@ -27,6 +27,7 @@ struct SolveContext {
   BackendProblem* problem = nullptr;
   int evaluations = 0;
   double safety_s = 0.0;
+  double prefilter_s = 0.0;
   double self_s = 0.0;
   bool have_initial = false;
   BackendCost initial;          ///< at the first evaluation (the warm start)
@@ -60,6 +61,7 @@ double counted_evaluate(SolveContext& ctx, const double* x, double* g, BackendCo
   const double f = ctx.problem->evaluate(x, g, cost, cutoff);
   if (cost->safety_skipped) ++ctx.skipped;
   ctx.safety_s += cost->safety_stats.time_s;
+  ctx.prefilter_s += cost->safety_stats.prefilter_s;
   ctx.self_s += cost->self_stats.time_s;
   return f;
 }
@@ -294,6 +296,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
   r.iterations = iterations;
   r.evaluations = ctx.evaluations;
   r.safety_s = ctx.safety_s;
+  r.safety_prefilter_s = ctx.prefilter_s;
   r.self_collision_s = ctx.self_s;
   r.rechecks = ctx.rechecks;
   r.probe_evaluations = ctx.probes;

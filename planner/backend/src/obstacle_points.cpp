@@ -5,10 +5,68 @@
 
 namespace porter::backend {
 
+CellMask::CellMask(const Eigen::AlignedBox3d& bounds_W, double cell_m) : bounds_(bounds_W), cell_m_(cell_m) {
+  if (bounds_.isEmpty() || !(cell_m > 0.0)) return;
+  for (int a = 0; a < 3; ++a) dims_[a] = std::max(1, static_cast<int>(std::ceil(bounds_.sizes()[a] / cell_m_)));
+  bits_.assign(static_cast<std::size_t>(dims_.x()) * static_cast<std::size_t>(dims_.y()) * static_cast<std::size_t>(dims_.z()), 0);
+}
+
+bool CellMask::range(const Eigen::AlignedBox3d& box, Eigen::Vector3i& lo, Eigen::Vector3i& hi) const {
+  if (bits_.empty() || box.isEmpty()) return false;
+  for (int a = 0; a < 3; ++a) {
+    if (box.max()[a] < bounds_.min()[a] || box.min()[a] > bounds_.max()[a]) return false;
+    lo[a] = std::clamp(static_cast<int>(std::floor((box.min()[a] - bounds_.min()[a]) / cell_m_)), 0, dims_[a] - 1);
+    hi[a] = std::clamp(static_cast<int>(std::floor((box.max()[a] - bounds_.min()[a]) / cell_m_)), 0, dims_[a] - 1);
+  }
+  return true;
+}
+
+void CellMask::add(const Eigen::AlignedBox3d& box) {
+  Eigen::Vector3i lo, hi;
+  if (!range(box, lo, hi)) return;
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x) bits_[index(x, y, z)] = 1;
+}
+
+bool CellMask::contains(const Eigen::Vector3d& p) const {
+  if (bits_.empty() || !bounds_.contains(p)) return false;
+  int c[3];
+  for (int a = 0; a < 3; ++a) {
+    c[a] = std::clamp(static_cast<int>(std::floor((p[a] - bounds_.min()[a]) / cell_m_)), 0, dims_[a] - 1);
+  }
+  return bits_[index(c[0], c[1], c[2])] != 0;
+}
+
+bool CellMask::covers(const Eigen::AlignedBox3d& box) const {
+  if (box.isEmpty()) return true;
+  Eigen::Vector3i lo, hi;
+  if (!range(box, lo, hi)) return true;  // no point of the box is in the grid: none can be contained
+  for (int z = lo.z(); z <= hi.z(); ++z)
+    for (int y = lo.y(); y <= hi.y(); ++y)
+      for (int x = lo.x(); x <= hi.x(); ++x)
+        if (!bits_[index(x, y, z)]) return false;
+  return true;
+}
+
+std::int64_t CellMask::count() const {
+  std::int64_t n = 0;
+  for (std::uint8_t b : bits_) n += b;
+  return n;
+}
+
 std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
                                                    const Eigen::AlignedBox3d& region,
                                                    const ObstaclePointSettings& settings) {
+  return collect_obstacle_points(map, region, settings, nullptr, nullptr);
+}
+
+std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
+                                                   const Eigen::AlignedBox3d& region,
+                                                   const ObstaclePointSettings& settings, const CellMask* keep,
+                                                   std::vector<std::uint64_t>* keys) {
   std::vector<ObstaclePoint> out;
+  if (keys) keys->clear();
   if (map.num_voxels() == 0 || region.isEmpty()) return out;
   const double res = map.resolution_m();
   const Eigen::Vector3i dims = map.dims();
@@ -48,7 +106,11 @@ std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
       }
       const Eigen::Vector3d c = map.voxel_center_W(i, j, k);
       if (!region.contains(c)) continue;
+      // After the surface test, which drops most occupied voxels (the interior of solid
+      // obstacles) after a few look-ups: the mask is asked only about surface voxels.
+      if (keep && !keep->contains(c)) continue;
       out.push_back({c, (1u << kNumLinks) - 1, false});
+      if (keys) keys->push_back(static_cast<std::uint64_t>(idx));
     }
   }
   if (settings.ground && region.min().z() <= 0.0) {
@@ -62,7 +124,9 @@ std::vector<ObstaclePoint> collect_obstacle_points(const OccupancyGrid& map,
             c.y() > region.max().y()) {
           continue;
         }
+        if (keep && !keep->contains(c)) continue;
         out.push_back({c, links, true});
+        if (keys) keys->push_back(static_cast<std::uint64_t>(n + i + nx * j));
       }
     }
   }

@@ -58,13 +58,38 @@ SvsdfSafetyTerm::SvsdfSafetyTerm(const RobotModel& model, const RobotSdf& sdf,
 
 void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& initial) {
   body_.reset(initial);
-  // Once per map: every surface voxel of the map (and the ground layer under it); the per-piece
-  // prefilter visits only the index cells near the trajectory, so no cropping is needed.
   const std::uint64_t key = map_key(map_W);
-  if (key != map_key_) {
+  if (settings_.selection_slack_m > 0.0) {
+    // Once per map and warm start region (header comment "Selection").
+    if (key != map_key_) {
+      map_ = map_W;
+      map_key_ = key;
+      selection_ = CellMask();
+      keys_.clear();
+      points_.clear();
+    }
+    if (selection_.empty()) {
+      Eigen::AlignedBox3d bounds = map_.bounds_W();
+      bounds.min().z() -= map_.resolution_m();  // the ground layer lies half a voxel below the map
+      selection_ = CellMask(bounds, kSelectCell_m);
+      mark_boxes(selection_, settings_.selection_slack_m);
+      collect_selected();
+    } else if (!selection_covers_body()) {
+      // Same map, another warm start (the warm-start choice prepares each): the selection grows.
+      mark_boxes(selection_, settings_.selection_slack_m);
+      collect_selected();
+    }
+  } else if (key != map_key_) {
+    // Once per map: every surface voxel of the map (and the ground layer under it); the per-piece
+    // prefilter visits only the index cells near the trajectory, so no cropping is needed.
+    const auto t0 = std::chrono::steady_clock::now();
     points_ = collect_obstacle_points(map_W, map_W.bounds_W(), settings_.points);
     map_key_ = key;
+    selection_ = CellMask();
+    keys_.clear();
     index_points();
+    ++collections_;
+    collection_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   hints_.assign(points_.size(), no_hints());
   for (int j = 0; j < kNumLinks; ++j) {
@@ -75,6 +100,67 @@ void SvsdfSafetyTerm::prepare(const OccupancyGrid& map_W, const Trajectory& init
   refresh_decisions();
 }
 
+double SvsdfSafetyTerm::level1_radius_m(int link) const {
+  const auto j = static_cast<std::size_t>(link);
+  return std::max(margin_[j], ground_margin_[j]) + sdf_->link(link).fine().error_bound_m();
+}
+
+void SvsdfSafetyTerm::mark_boxes(CellMask& mask, double grow_m) const {
+  const int pieces = body_.trajectory().num_pieces();
+  for (int j = 0; j < kNumLinks; ++j) {
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(level1_radius_m(j) + grow_m);
+    for (int i = 0; i < pieces; ++i) {
+      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+      if (!box.isEmpty()) mask.add(Eigen::AlignedBox3d(box.min() - grow, box.max() + grow));
+    }
+  }
+}
+
+bool SvsdfSafetyTerm::selection_covers_body() const {
+  const int pieces = body_.trajectory().num_pieces();
+  for (int j = 0; j < kNumLinks; ++j) {
+    // Level 1 lets a point through for (j, i) only if it lies within r_j of the box (in every
+    // axis, a fortiori), i.e. inside the box grown by r_j.
+    const Eigen::Vector3d grow = Eigen::Vector3d::Constant(level1_radius_m(j));
+    for (int i = 0; i < pieces; ++i) {
+      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+      if (!box.isEmpty() && !selection_.covers(Eigen::AlignedBox3d(box.min() - grow, box.max() + grow))) return false;
+    }
+  }
+  return true;
+}
+
+void SvsdfSafetyTerm::collect_selected() {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<std::uint64_t> keys;
+  std::vector<ObstaclePoint> points =
+      collect_obstacle_points(map_, map_.bounds_W(), settings_.points, &selection_, &keys);
+  // Carry every kept point's hints and frozen decisions over (both key lists increase).
+  std::vector<TimeHints> hints(points.size(), no_hints());
+  std::vector<std::unique_ptr<BallDecisions>> decisions(points.size());
+  const bool have_hints = hints_.size() == points_.size() && keys_.size() == points_.size();
+  const bool have_decisions = decisions_.size() == points_.size() && keys_.size() == points_.size();
+  for (std::size_t a = 0, b = 0; a < keys_.size() && b < keys.size();) {
+    if (keys_[a] < keys[b]) {
+      ++a;
+    } else if (keys[b] < keys_[a]) {
+      ++b;
+    } else {
+      if (have_hints) hints[b] = hints_[a];
+      if (have_decisions) decisions[b] = std::move(decisions_[a]);
+      ++a;
+      ++b;
+    }
+  }
+  points_ = std::move(points);
+  keys_ = std::move(keys);
+  hints_ = std::move(hints);
+  decisions_ = std::move(decisions);
+  index_points();
+  ++collections_;
+  collection_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 void SvsdfSafetyTerm::refresh_decisions() {
   decisions_.clear();
   decisions_.resize(points_.size());
@@ -82,6 +168,7 @@ void SvsdfSafetyTerm::refresh_decisions() {
 }
 
 void SvsdfSafetyTerm::index_points() {
+  pair_lists_.clear();  // they hold indices into the old points
   // A uniform grid of point indices (CSR), so that each swept box visits only its own points.
   grid_box_.setEmpty();
   for (const ObstaclePoint& o : points_) grid_box_.extend(o.p_W);
@@ -120,6 +207,8 @@ void SvsdfSafetyTerm::find_candidates() {
   tight_.assign(points_.size(), 0u);
   candidates_.clear();
   if (points_.empty()) return;
+  const std::size_t pairs = static_cast<std::size_t>(kNumLinks) * static_cast<std::size_t>(body_.trajectory().num_pieces());
+  if (pair_lists_.size() != pairs) pair_lists_.assign(pairs, PairList{});
   // The (link, piece) pairs are split over the workers, each with its own masks; the masks are
   // OR-ed in worker order (the result does not depend on timing).
   team_->run([this](int w) { mark_candidates(*workers_[static_cast<std::size_t>(w)], w); });
@@ -144,6 +233,7 @@ void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
   tight.assign(points_.size(), 0u);
   const int pieces = body_.trajectory().num_pieces();
   const int stride = static_cast<int>(workers_.size());
+  const double reuse_slack = settings_.prefilter_slack_m;
   // Pairs numbered j * pieces + i: the payload's pieces (the most work) are spread over all workers.
   for (int pair = index; pair < kNumLinks * pieces; pair += stride) {
     const int j = pair / pieces;
@@ -157,68 +247,91 @@ void SvsdfSafetyTerm::mark_candidates(Worker& worker, int index) {
     const std::uint32_t bit = 1u << j;
     // The base's bit stays the box levels' own: it decides the base search's options (kc_svsdf.cpp).
     const bool tighten = settings_.sdf_prefilter && j > 0 && !sdf.empty();
-    {
-      const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
-      if (box.isEmpty()) continue;
-      const int first = body_.piece_first_sample(i), last = body_.piece_first_sample(i + 1);
-      // Level 1: the link's world box swept over the piece, inflated by the margin + err.
-      const Eigen::Vector3i lo = cell_index(box.min() - Eigen::Vector3d::Constant(widest + err));
-      const Eigen::Vector3i hi = cell_index(box.max() + Eigen::Vector3d::Constant(widest + err));
-      for (int z = lo.z(); z <= hi.z(); ++z)
-        for (int y = lo.y(); y <= hi.y(); ++y)
-          for (int x = lo.x(); x <= hi.x(); ++x) {
-            const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(grid_dims_.x()) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(grid_dims_.y()) * z);
-            for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-              const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
-              const ObstaclePoint& o = points_[idx];
-              if (!(o.links & bit)) continue;
-              bool box_hit = (masks[idx] & bit) != 0;
-              bool sdf_hit = !tighten || (tight[idx] & bit) != 0;
-              if (box_hit && sdf_hit) continue;
-              const double r = margin_of(o, j) + err;
-              if (box.exteriorDistance(o.p_W) > r) continue;
-              const double r_sdf = margin_of(o, j) + err_any;
-              // Level 2, in the link frame at the piece's samples: between samples every link
-              // point moves at most `step`, so the link stays farther than (distance to its
-              // local box at the nearest sample) - step from the point. The local box bounds the
-              // link's signed distance from below, and that distance changes by at most `step`
-              // per sample: a sample whose box distance exceeds r + (m + 1) step also proves the
-              // link farther than r over the next m sample intervals, which are skipped (they
-              // could only set the bit for a point the penalty would not see).
-              // Level 3 (tighten): the same with the SDF's lower bound and r_sdf; looked up only
-              // where the box does not already rule the sample out.
-              for (int s = first; s <= last;) {
-                const Eigen::Vector3d p_L = body_.sample_pose(s, j).apply(o.p_W);
-                const double d = local.exteriorDistance(p_L);
-                if (!box_hit && d <= r + step) box_hit = true;
-                double lb = d;
-                if (!sdf_hit && d <= r_sdf + step) {
-                  double sd_lower = d;
-                  sdf.distance_fast(p_L, &sd_lower);
-                  lb = std::max(d, sd_lower);
-                  // Between this sample and its neighbours the link moves at most the two
-                  // intervals' own bounds (each <= step).
-                  const double local_step =
-                      std::max(s > 0 ? body_.motion_bound_m(j, s - 1, s) : 0.0,
-                               s + 1 < body_.num_samples() ? body_.motion_bound_m(j, s, s + 1) : 0.0);
-                  sdf_hit = lb <= r_sdf + local_step;
-                }
-                if (box_hit && sdf_hit) break;
-                // Skip only samples that can decide neither open level: sample s + i is at least
-                // (bound here) - motion(s, s + i) away, and a hit needs r + step (box) or
-                // r_sdf + step (SDF) at most; the motion is summed over the actual intervals.
-                double room = std::numeric_limits<double>::infinity();
-                if (!box_hit) room = d - r - step;
-                if (!sdf_hit) room = std::min(room, lb - r_sdf - step);
-                s += 1 + body_.samples_within_motion(j, s, last, room);
-              }
-              if (box_hit) masks[idx] |= bit;
-              // A piece may pass only the SDF level (the box levels passing on another piece):
-              // the bits are AND-ed over all pieces in find_candidates().
-              if (tighten ? sdf_hit : box_hit) tight[idx] |= bit;
-            }
-          }
+    const Eigen::AlignedBox3d& box = body_.piece_box(j, i);
+    if (box.isEmpty()) continue;
+    const int first = body_.piece_first_sample(i), last = body_.piece_first_sample(i + 1);
+    // The three levels for one point of the pair (header comment "Prefilter").
+    auto visit = [&](std::size_t idx) {
+      const ObstaclePoint& o = points_[idx];
+      bool box_hit = (masks[idx] & bit) != 0;
+      bool sdf_hit = !tighten || (tight[idx] & bit) != 0;
+      if (box_hit && sdf_hit) return;
+      const double r = margin_of(o, j) + err;
+      if (box.exteriorDistance(o.p_W) > r) return;
+      const double r_sdf = margin_of(o, j) + err_any;
+      // Level 2, in the link frame at the piece's samples: between samples every link
+      // point moves at most `step`, so the link stays farther than (distance to its
+      // local box at the nearest sample) - step from the point. The local box bounds the
+      // link's signed distance from below, and that distance changes by at most `step`
+      // per sample: a sample whose box distance exceeds r + (m + 1) step also proves the
+      // link farther than r over the next m sample intervals, which are skipped (they
+      // could only set the bit for a point the penalty would not see).
+      // Level 3 (tighten): the same with the SDF's lower bound and r_sdf; looked up only
+      // where the box does not already rule the sample out.
+      for (int s = first; s <= last;) {
+        const Eigen::Vector3d p_L = body_.sample_pose(s, j).apply(o.p_W);
+        const double d = local.exteriorDistance(p_L);
+        if (!box_hit && d <= r + step) box_hit = true;
+        double lb = d;
+        if (!sdf_hit && d <= r_sdf + step) {
+          double sd_lower = d;
+          sdf.distance_fast(p_L, &sd_lower);
+          lb = std::max(d, sd_lower);
+          // Between this sample and its neighbours the link moves at most the two
+          // intervals' own bounds (each <= step).
+          const double local_step =
+              std::max(s > 0 ? body_.motion_bound_m(j, s - 1, s) : 0.0,
+                       s + 1 < body_.num_samples() ? body_.motion_bound_m(j, s, s + 1) : 0.0);
+          sdf_hit = lb <= r_sdf + local_step;
+        }
+        if (box_hit && sdf_hit) break;
+        // Skip only samples that can decide neither open level: sample s + i is at least
+        // (bound here) - motion(s, s + i) away, and a hit needs r + step (box) or
+        // r_sdf + step (SDF) at most; the motion is summed over the actual intervals.
+        double room = std::numeric_limits<double>::infinity();
+        if (!box_hit) room = d - r - step;
+        if (!sdf_hit) room = std::min(room, lb - r_sdf - step);
+        s += 1 + body_.samples_within_motion(j, s, last, room);
+      }
+      if (box_hit) masks[idx] |= bit;
+      // A piece may pass only the SDF level (the box levels passing on another piece):
+      // the bits are AND-ed over all pieces in find_candidates().
+      if (tighten ? sdf_hit : box_hit) tight[idx] |= bit;
+    };
+    // Level 1 lets a point through only within widest + err of the box, so inside the box grown by
+    // that in every axis (header comment "Candidate lists").
+    const Eigen::Vector3d reach = Eigen::Vector3d::Constant(widest + err);
+    PairList* list = reuse_slack > 0.0 ? &pair_lists_[static_cast<std::size_t>(pair)] : nullptr;
+    if (list && list->valid &&
+        Eigen::AlignedBox3d(list->box.min() - Eigen::Vector3d::Constant(reuse_slack),
+                            list->box.max() + Eigen::Vector3d::Constant(reuse_slack)).contains(box)) {
+      ++worker.pairs_reused;
+      for (int k : list->points) visit(static_cast<std::size_t>(k));
+      continue;
     }
+    ++worker.pairs_searched;
+    // Level 1 from the point index, over the box grown by widest + err (+ the slack, recording
+    // the pair's list: every point with the link's bit inside the box grown by reach + slack).
+    const Eigen::Vector3d grow = reach + Eigen::Vector3d::Constant(list ? reuse_slack : 0.0);
+    const Eigen::AlignedBox3d listed(box.min() - grow, box.max() + grow);
+    if (list) {
+      list->valid = true;
+      list->box = box;
+      list->points.clear();
+    }
+    const Eigen::Vector3i lo = cell_index(listed.min());
+    const Eigen::Vector3i hi = cell_index(listed.max());
+    for (int z = lo.z(); z <= hi.z(); ++z)
+      for (int y = lo.y(); y <= hi.y(); ++y)
+        for (int x = lo.x(); x <= hi.x(); ++x) {
+          const std::size_t c = static_cast<std::size_t>(x) + static_cast<std::size_t>(grid_dims_.x()) * (static_cast<std::size_t>(y) + static_cast<std::size_t>(grid_dims_.y()) * z);
+          for (int k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
+            const auto idx = static_cast<std::size_t>(cell_points_[static_cast<std::size_t>(k)]);
+            if (!(points_[idx].links & bit)) continue;
+            if (list && listed.contains(points_[idx].p_W)) list->points.push_back(static_cast<int>(idx));
+            visit(idx);
+          }
+        }
   }
 }
 
@@ -271,10 +384,17 @@ void SvsdfSafetyTerm::run(Worker& w, int index, const Trajectory& trajectory) {
 double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradient& grad, SafetyStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   body_.reset(trajectory);
+  if (selecting() && !selection_covers_body()) {
+    // A link left the selected region: grow it around the current trajectory.
+    mark_boxes(selection_, settings_.selection_slack_m);
+    collect_selected();
+  }
   if (cell_start_.size() < 2) index_points();  // points set by set_points()
   if (hints_.size() != points_.size()) hints_.assign(points_.size(), no_hints());
   if (decisions_.size() != points_.size()) refresh_decisions();
+  const auto t_prefilter = std::chrono::steady_clock::now();
   find_candidates();
+  const double prefilter_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_prefilter).count();
   team_->run([this, &trajectory](int w) { run(*workers_[static_cast<std::size_t>(w)], w, trajectory); });
   record_next_ = false;
   SafetyStats total;
@@ -291,9 +411,22 @@ double SvsdfSafetyTerm::evaluate(const Trajectory& trajectory, TrajectoryGradien
     total.min_distance_m = std::min(total.min_distance_m, w->stats.min_distance_m);
   }
   total.cost = cost;
+  total.prefilter_s = prefilter_s;
   total.time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = total;
   return cost;
+}
+
+std::int64_t SvsdfSafetyTerm::pairs_reused() const {
+  std::int64_t n = 0;
+  for (const auto& w : workers_) n += w->pairs_reused;
+  return n;
+}
+
+std::int64_t SvsdfSafetyTerm::pairs_searched() const {
+  std::int64_t n = 0;
+  for (const auto& w : workers_) n += w->pairs_searched;
+  return n;
 }
 
 KcSvsdfStats SvsdfSafetyTerm::kc_stats() const {

@@ -28,6 +28,7 @@ std::vector<std::pair<std::string, double>> PlanResult::time_breakdown() const {
     out.emplace_back("backend.prepare", b.prepare_s);
     out.emplace_back("backend.optimize", b.optimize_s);
     out.emplace_back("backend.safety_term", b.safety_s);
+    out.emplace_back("backend.safety_prefilter", b.safety_prefilter_s);
     out.emplace_back("backend.self_collision_term", b.self_collision_s);
     out.emplace_back("backend.rechecks", b.recheck_s);
     out.emplace_back("backend.acceptance", b.check_s);

@@ -98,10 +98,13 @@ void load_backend_yaml(const std::string& file, PlannerSettings& s) {
   }
   {
     backend::SvsdfSafetySettings& t = s.safety_terms.svsdf;
-    const Fields f(top.section("kc_svsdf"), {"weight", "threads", "freeze_ball_decisions"});
+    const Fields f(top.section("kc_svsdf"),
+                   {"weight", "threads", "freeze_ball_decisions", "selection_slack_m", "prefilter_slack_m"});
     f.positive("weight", t.weight);
     f.integer("threads", t.threads, 1, 64);
     f.flag("freeze_ball_decisions", t.freeze_ball_decisions);
+    f.nonnegative("selection_slack_m", t.selection_slack_m);
+    f.nonnegative("prefilter_slack_m", t.prefilter_slack_m);
   }
   {
     baselines::SphereSafetySettings& t = s.safety_terms.spheres;

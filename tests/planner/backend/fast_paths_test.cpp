@@ -1,7 +1,9 @@
 // The J_s fast paths against their slow references: the lean t* scan
 // (SvsdfSettings::lean_scan: smaller look-up level, per-interval Lipschitz skip) returns exactly
 // what the reference scan returns; the SDF prefilter level (SvsdfSafetySettings::sdf_prefilter)
-// leaves J_s and its gradient unchanged; the swept body's per-interval motion bounds are bounds.
+// leaves J_s and its gradient unchanged; the swept body's per-interval motion bounds are bounds;
+// the prefilter's candidate lists (SvsdfSafetySettings::prefilter_slack_m) leave J_s, its gradient
+// and every count unchanged.
 
 #include <gtest/gtest.h>
 
@@ -169,6 +171,65 @@ TEST(SvsdfSafetyTermSdfPrefilter, LeavesTheCostAndGradientUnchanged) {
       }
     }
   }
+}
+
+TEST(SvsdfSafetyTermCandidateLists, LeaveTheCostGradientAndCountsUnchanged) {
+  const RobotModel& model = testing::robot(kPayload);
+  const RobotSdf& sdf = testing::robot_sdf(kPayload);
+  const Trajectory traj = testing::random_trajectory(model, 31, testing::RandomTrajectoryOptions::with_pieces(4));
+  SweptBody body(model);
+  body.reset(traj);
+  std::mt19937 rng(29);
+  std::vector<ObstaclePoint> points;
+  for (int n = 0; n < 900; ++n) {
+    const double spread = n % 3 == 0 ? 0.03 : (n % 3 == 1 ? 0.15 : 0.4);
+    points.push_back({point_near(body, n % kNumLinks, rng, spread), kAllLinks});
+  }
+  // Moves of a few millimetres (the lists are read), 8 cm of one piece's position (that piece's
+  // pairs search the index again), a longer piece, and back.
+  const Trajectory tiny = testing::perturbed(traj, 1, 0, 0, 0.003);
+  const Trajectory tiny2 = testing::perturbed(tiny, 2, 0, 1, -0.004);
+  const Trajectory moved = testing::perturbed(traj, 2, 0, 0, 0.08);
+  const Trajectory longer = testing::perturbed(traj, 0, -1, 0, 0.3);
+  SvsdfSafetySettings fast_settings;
+  fast_settings.weight = 1.0;
+  SvsdfSafetySettings reference_settings = fast_settings;
+  reference_settings.prefilter_slack_m = 0.0;
+  SvsdfSafetyTerm fast(model, sdf, fast_settings), reference(model, sdf, reference_settings);
+  fast.set_points(points);
+  reference.set_points(points);
+  std::int64_t searched_before = 0;
+  int step = 0;
+  for (const Trajectory* t : {&traj, &tiny, &tiny2, &moved, &tiny, &longer, &traj}) {
+    TrajectoryGradient ga, gb;
+    ga.reset(t->num_pieces());
+    gb.reset(t->num_pieces());
+    SafetyStats sa, sb;
+    const double ca = fast.evaluate(*t, ga, &sa);
+    const double cb = reference.evaluate(*t, gb, &sb);
+    ASSERT_GT(sb.violations, 10);
+    EXPECT_EQ(sa.candidate_points, sb.candidate_points) << "step " << step;
+    EXPECT_EQ(sa.link_queries, sb.link_queries) << "step " << step;
+    EXPECT_EQ(sa.violations, sb.violations) << "step " << step;
+    EXPECT_EQ(sa.inside, sb.inside) << "step " << step;
+    EXPECT_NEAR(ca, cb, 1e-12 * (1.0 + std::abs(cb))) << "step " << step;
+    for (int i = 0; i < t->num_pieces(); ++i) {
+      const double scale = 1.0 + gb.coeffs(i).cwiseAbs().maxCoeff();
+      EXPECT_LE((ga.coeffs(i) - gb.coeffs(i)).cwiseAbs().maxCoeff(), 1e-12 * scale) << "step " << step << " piece " << i;
+      EXPECT_NEAR(ga.duration(i), gb.duration(i), 1e-12 * (1.0 + std::abs(gb.duration(i)))) << "step " << step;
+    }
+    const std::int64_t searched = fast.pairs_searched() - searched_before;
+    searched_before = fast.pairs_searched();
+    if (step == 1 || step == 2) {
+      EXPECT_EQ(searched, 0) << "millimetre moves read the lists, step " << step;
+    }
+    if (step == 3) {
+      EXPECT_GT(searched, 0) << "an 8 cm move searches the index again";
+    }
+    ++step;
+  }
+  EXPECT_GT(fast.pairs_reused(), fast.pairs_searched()) << "the fast path is taken";
+  EXPECT_EQ(reference.pairs_reused(), 0);
 }
 
 }  // namespace

@@ -1,5 +1,7 @@
 // collect_obstacle_points visits only the set bits of the map's storage; it must return exactly
 // what the plain triple loop over every voxel below returns (the slow reference), same order.
+// With a CellMask it returns the subsequence the mask contains, with keys that identify a point
+// across selections; CellMask::covers(box) implies contains() for every point of the box.
 #include <gtest/gtest.h>
 
 #include <cstdint>
@@ -83,6 +85,81 @@ TEST(ObstaclePoints, MatchTheVoxelLoopOnRandomMapsAndRegions) {
     }
   }
   EXPECT_GT(compared, 10000);  // not vacuous
+}
+
+TEST(ObstaclePoints, MaskedCollectionIsTheMaskedSubsequenceWithStableKeys) {
+  std::mt19937 rng(23u);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int kept_total = 0, dropped_total = 0;
+  for (int trial = 0; trial < 30; ++trial) {
+    const Eigen::Vector3i dims(20 + trial, 31, 9);
+    OccupancyGrid map(Eigen::Vector3d(0.3, -0.8, 0.0), 0.05, dims);
+    for (int k = 0; k < dims.z(); ++k)
+      for (int j = 0; j < dims.y(); ++j)
+        for (int i = 0; i < dims.x(); ++i)
+          if (u(rng) < 0.2) map.set(i, j, k);
+    Eigen::AlignedBox3d bounds = map.bounds_W();
+    bounds.min().z() -= map.resolution_m();
+    ObstaclePointSettings s;
+    s.ground = trial % 2 == 0;
+    std::vector<std::uint64_t> all_keys;
+    const std::vector<ObstaclePoint> all = collect_obstacle_points(map, map.bounds_W(), s, nullptr, &all_keys);
+    ASSERT_EQ(all_keys.size(), all.size());
+    for (std::size_t n = 1; n < all_keys.size(); ++n) ASSERT_LT(all_keys[n - 1], all_keys[n]);
+    // Two nested masks of random boxes (the second adds to the first, as a selection grows).
+    CellMask mask(bounds, 0.12 + 0.05 * u(rng));
+    std::vector<std::uint64_t> previous_keys;
+    for (int round = 0; round < 2; ++round) {
+      for (int b = 0; b < 2; ++b) {
+        const Eigen::Vector3d a = bounds.min() + bounds.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+        const Eigen::Vector3d size(0.3 * u(rng), 0.3 * u(rng), 0.3 * u(rng));
+        mask.add(Eigen::AlignedBox3d(a, a + size));
+      }
+      std::vector<std::uint64_t> keys;
+      const std::vector<ObstaclePoint> kept = collect_obstacle_points(map, map.bounds_W(), s, &mask, &keys);
+      std::size_t next = 0;
+      for (std::size_t n = 0; n < all.size(); ++n) {
+        if (!mask.contains(all[n].p_W)) {
+          ++dropped_total;
+          continue;
+        }
+        ASSERT_LT(next, kept.size());
+        ASSERT_EQ(kept[next].p_W, all[n].p_W);
+        ASSERT_EQ(kept[next].ground, all[n].ground);
+        ASSERT_EQ(keys[next], all_keys[n]) << "a point's key does not depend on the mask";
+        ++next;
+      }
+      ASSERT_EQ(next, kept.size());
+      kept_total += static_cast<int>(kept.size());
+      // The grown mask keeps every point of the smaller one.
+      std::size_t m = 0;
+      for (std::uint64_t k : previous_keys) {
+        while (m < keys.size() && keys[m] < k) ++m;
+        ASSERT_LT(m, keys.size());
+        ASSERT_EQ(keys[m], k);
+      }
+      previous_keys = keys;
+    }
+    // covers(box) => contains(p) for every p in the box; a box with an unmarked cell is not covered.
+    for (int b = 0; b < 40; ++b) {
+      const Eigen::Vector3d a = bounds.min() + bounds.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+      const Eigen::AlignedBox3d box(a, a + Eigen::Vector3d(0.2 * u(rng), 0.2 * u(rng), 0.2 * u(rng)));
+      bool all_in = true;
+      for (int n = 0; n < 200; ++n) {
+        const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
+        const bool in = mask.contains(p) || !bounds.contains(p);
+        all_in = all_in && in;
+        if (mask.covers(box)) {
+          ASSERT_TRUE(in) << "trial " << trial;
+        }
+      }
+      if (!all_in) {
+        EXPECT_FALSE(mask.covers(box));
+      }
+    }
+  }
+  EXPECT_GT(kept_total, 1000);
+  EXPECT_GT(dropped_total, 1000);
 }
 
 }  // namespace

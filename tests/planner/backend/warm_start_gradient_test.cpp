@@ -188,7 +188,8 @@ TEST(BackendWarmStart, TunnelSeed1PrefilteredPenaltyEqualsTheSlowReference) {
   SafetyStats stats;
   const double js = safety.evaluate(*tc.ws.trajectory, grad, &stats);
   ASSERT_GT(stats.violations, 50);
-  EXPECT_LT(stats.candidate_points, stats.obstacle_points / 10) << "the prefilter must cut most points";
+  const std::vector<ObstaclePoint> every_point = collect_obstacle_points(tc.grid, tc.grid.bounds_W(), tc.settings.points);
+  EXPECT_LT(stats.candidate_points, static_cast<int>(every_point.size()) / 10) << "the prefilter must cut most points";
 
   // Reference: every point within 0.5 m of a link's swept box (beyond it d_j > 0.5 m > s_j), every
   // link it applies to, no cap, no hints.
@@ -198,7 +199,7 @@ TEST(BackendWarmStart, TunnelSeed1PrefilteredPenaltyEqualsTheSlowReference) {
   KcSvsdfResult res;
   double reference = 0.0;
   int violations = 0;
-  for (const ObstaclePoint& o : safety.points()) {
+  for (const ObstaclePoint& o : every_point) {
     bool near = false;
     for (int j = 0; j < kNumLinks; ++j) near = near || body.link_box(j).exteriorDistance(o.p_W) < 0.5;
     if (!near) continue;
@@ -214,6 +215,67 @@ TEST(BackendWarmStart, TunnelSeed1PrefilteredPenaltyEqualsTheSlowReference) {
   }
   EXPECT_EQ(stats.violations, violations);
   EXPECT_NEAR(js, reference, 1e-9 * reference);
+}
+
+/// `traj` moved by dy along y (every piece's constant term).
+Trajectory shifted_y(const Trajectory& traj, double dy) {
+  std::vector<TrajectoryPiece> pieces = traj.pieces();
+  for (TrajectoryPiece& p : pieces) p.coeffs(0, 1) += dy;
+  return *Trajectory::create(pieces, traj.start_yaw_rad()).trajectory;
+}
+
+TEST(BackendWarmStart, TunnelSeed1PointSelectionGivesTheWholeMapsPenaltyAndGradient) {
+  // The selection of points near the warm start (SvsdfSafetySettings::selection_slack_m) and the
+  // prefilter's candidate lists (prefilter_slack_m) against the whole map's points with the point
+  // index searched at every evaluation, along one round: the warm start (a refresh point: decisions recorded),
+  // a small move that stays inside the selection, a move of 0.6 m that leaves it (the points are
+  // collected again, hints and decisions carried over), the warm start again (decisions replayed),
+  // and a second round from there.
+  const TunnelCase tc = tunnel_case();
+  SvsdfSafetySettings whole_settings = tc.settings;
+  whole_settings.selection_slack_m = 0.0;
+  whole_settings.prefilter_slack_m = 0.0;  // and no candidate lists: the index searched every time
+  SvsdfSafetyTerm selected(*tc.model, *tc.sdf, tc.settings), whole(*tc.model, *tc.sdf, whole_settings);
+  const Trajectory& w = *tc.ws.trajectory;
+  selected.prepare(tc.grid, w);
+  whole.prepare(tc.grid, w);
+  EXPECT_EQ(selected.collections(), 1);
+  EXPECT_LT(selected.points().size(), whole.points().size() * 3 / 4) << "the selection must drop points";
+  const std::size_t selected_at_start = selected.points().size();
+  const Trajectory small = testing::perturbed(shifted_y(w, 0.03), w.num_pieces() / 2, 0, 0, 0.02);
+  const Trajectory far = shifted_y(w, 0.6);
+  int step = 0;
+  for (const Trajectory* t : {&w, &small, &far, &w, &small}) {
+    if (step == 4) {  // a new round
+      selected.refresh_decisions();
+      whole.refresh_decisions();
+    }
+    TrajectoryGradient ga, gb;
+    ga.reset(t->num_pieces());
+    gb.reset(t->num_pieces());
+    SafetyStats sa, sb;
+    const double ca = selected.evaluate(*t, ga, &sa);
+    const double cb = whole.evaluate(*t, gb, &sb);
+    ASSERT_GT(sb.violations, 10) << "step " << step;
+    EXPECT_EQ(sa.candidate_points, sb.candidate_points) << "step " << step;
+    EXPECT_EQ(sa.link_queries, sb.link_queries) << "step " << step;
+    EXPECT_EQ(sa.violations, sb.violations) << "step " << step;
+    EXPECT_NEAR(ca, cb, 1e-12 * (1.0 + std::abs(cb))) << "step " << step;
+    for (int i = 0; i < t->num_pieces(); ++i) {
+      const double scale = 1.0 + gb.coeffs(i).cwiseAbs().maxCoeff();
+      EXPECT_LE((ga.coeffs(i) - gb.coeffs(i)).cwiseAbs().maxCoeff(), 1e-12 * scale) << "step " << step << " piece " << i;
+      EXPECT_NEAR(ga.duration(i), gb.duration(i), 1e-12 * (1.0 + std::abs(gb.duration(i)))) << "step " << step;
+    }
+    if (step == 1) {
+      EXPECT_EQ(selected.collections(), 1) << "a 3 cm move stays inside the selection";
+    }
+    if (step == 2) {
+      EXPECT_EQ(selected.collections(), 2) << "a 0.6 m move leaves it";
+      EXPECT_GT(selected.points().size(), selected_at_start);
+    }
+    ++step;
+  }
+  EXPECT_EQ(selected.collections(), 2) << "the grown selection covers the warm start again";
 }
 
 TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {

@@ -35,6 +35,7 @@ struct BackendResult {
   double prepare_s = 0.0;           ///< problem, warm start and SafetyTerm::prepare (part of elapsed_s)
   double optimize_s = 0.0;          ///< L-BFGS
   double safety_s = 0.0;            ///< inside SafetyTerm::evaluate (part of optimize_s)
+  double safety_prefilter_s = 0.0;  ///< of which the term's prefilter (SafetyStats::prefilter_s)
   double self_collision_s = 0.0;    ///< inside SelfCollisionTerm::evaluate (part of optimize_s)
   double check_s = 0.0;             ///< the re-check
   double recheck_s = 0.0;           ///< in-loop re-checks (part of optimize_s)

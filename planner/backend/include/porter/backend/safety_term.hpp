@@ -27,6 +27,7 @@ struct SafetyStats {
   double min_distance_m = std::numeric_limits<double>::infinity();  ///< over computed pairs
   double cost = 0.0;
   double time_s = 0.0;         ///< wall time of evaluate()
+  double prefilter_s = 0.0;    ///< of which the prefilter (choosing the candidate points), if the term has one
   /// Some link certainly meets an occupied map voxel (or a voxel under the ground) somewhere along
   /// the trajectory, so the kernel re-check cannot pass (terms that cannot tell leave it false).
   bool certain_collision = false;

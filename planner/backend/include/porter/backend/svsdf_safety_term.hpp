@@ -9,7 +9,40 @@
 //
 // Obstacle points are extracted once per map: prepare() keys them by the grid's geometry and a
 // hash of its bits and rebuilds them only when the map changed (a solve on an unchanged map pays
-// nothing). Prefilter (paper: AABB test around the trajectory), per evaluate(): a point is asked
+// nothing).
+// Selection (selection_slack_m > 0, the default): of the map's points only those near the warm
+// start are kept. Let r_j = max(s_j, ground s_j) + err_j, the radius of the prefilter's first level
+// below (a point farther than r_j from link j's swept box over a piece is never evaluated for that
+// pair). prepare() marks the cells (kSelectCell_m) touched by every (link j, piece) swept box of the
+// warm start grown by r_j + slack and collects only the points in marked cells. Every evaluate()
+// first checks that each of its own (link j, piece) boxes grown by r_j touches marked cells only:
+// then every point the first level can let through is kept, the candidates are the same points in
+// the same order as with the whole map's set, and J_s and its gradient are the same numbers.
+// Where a box is not covered (a link moved more than about the slack away from where the selection
+// was made), the current trajectory's boxes grown by r_j + slack are added to the marks and the
+// points are collected again from the term's copy of the map; every point keeps its t* hints and
+// frozen decisions (matched by voxel, obstacle_points.hpp keys). The region only grows during a
+// solve, so a line search that tries a far point and comes back does not collect twice. A new
+// prepare() on the same map keeps the selection when it covers the new warm start and grows it
+// otherwise (the warm-start choice prepares one term for each of two warm starts of a plan); a new
+// map starts a new selection from the warm start. Why the slack (0.3 m): it is the distance a link may move
+// from the warm start before the points are collected again; the back-end moves a link out of an
+// obstacle by at most its depth plus the margin, and the ball search's r0 (0.3 m) is already
+// chosen larger than any depth of interest, so a solve that only repairs the warm start stays
+// inside; a larger slack keeps more points (the per-evaluation passes over all points grow), a
+// smaller one collects more often. Any slack > 0 gives the same J_s.
+// Candidate lists (prefilter_slack_m > 0, the default): the prefilter's first level searches the
+// point index around each (link j, piece i) box. When it does, it also records the pair's list:
+// the points with link j's bit inside the box grown by r_j + slack in every axis. A later
+// evaluate() whose box for the pair lies inside the recorded box grown by the slack runs the three
+// levels on the list alone: a point the first level lets through lies inside the current box
+// grown by r_j, hence inside the recorded one grown by r_j + slack, so it is on the list; the
+// masks, and everything after them, are those of the index search. A pair whose box moved farther
+// searches the index again (and records a new list). Why 2 cm: line-search trials and the
+// first-step probe move the trajectory by millimetres to centimetres (the probe sets the first trial
+// to the Newton step), so most pairs keep their lists between evaluations, while the lists hold
+// only a 2 cm shell more than the first level can let through.
+// Prefilter (paper: AABB test around the trajectory), per evaluate(): a point is asked
 // only for the links j that can come within s_j of it (elsewhere d_j > s_j, so the penalty and its
 // gradient are zero) and skipped with no such link. Two levels: the link's world AABB swept over a
 // piece, inflated by s_j + the field's error bound, must contain the point; then, at that piece's
@@ -87,6 +120,14 @@ struct SvsdfSafetySettings {
   /// options still follow the box levels' mask, so every evaluated pair's D_j is the same too.
   /// false: the reference (two levels only).
   bool sdf_prefilter = true;
+  /// Candidate lists (header comment "Candidate lists"): how far, m, a (link, piece) box may move
+  /// from where its list was made before the point index is searched again. <= 0: the index is
+  /// searched for every pair at every evaluation (the reference).
+  double prefilter_slack_m = 0.02;
+  /// Selection of the map's obstacle points near the trajectory (header comment "Selection"): how
+  /// far, m, a link may move from where the selection was made before the points are collected
+  /// again. <= 0: every point of the map (the reference).
+  double selection_slack_m = 0.3;
 };
 
 class SvsdfSafetyTerm : public SafetyTerm {
@@ -105,6 +146,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   void set_points(std::vector<ObstaclePoint> points) {
     points_ = std::move(points);
     map_key_ = 0;
+    selection_ = CellMask();
+    keys_.clear();
     certain_below_m_.fill(-std::numeric_limits<double>::infinity());
     index_points();
     decisions_.clear();
@@ -121,6 +164,15 @@ class SvsdfSafetyTerm : public SafetyTerm {
   void reset_stats();
   /// The swept body of the last evaluate().
   const SweptBody& body() const { return body_; }
+  /// Collections of the map's points since construction (prepare() on a new map or outside the
+  /// selection, and evaluate()s that left it; header comment "Selection").
+  int collections() const { return collections_; }
+  /// Wall time of those collections, s.
+  double collection_s() const { return collection_s_; }
+  /// (link, piece) pairs of the prefilter that read their candidate list / searched the point
+  /// index, over every evaluate() since construction.
+  std::int64_t pairs_reused() const;
+  std::int64_t pairs_searched() const;
 
  private:
   struct Worker {
@@ -133,10 +185,30 @@ class SvsdfSafetyTerm : public SafetyTerm {
     double cost = 0.0;
     std::vector<std::uint32_t> masks;  ///< find_candidates' bits for this worker's links
     std::vector<std::uint32_t> tight;  ///< the subset passing the SDF level (sdf_prefilter)
+    std::int64_t pairs_reused = 0;     ///< (link, piece) pairs that read their candidate list
+    std::int64_t pairs_searched = 0;   ///< pairs that searched the point index
+  };
+  /// A (link, piece) pair's candidate list (header comment "Candidate lists").
+  struct PairList {
+    bool valid = false;
+    Eigen::AlignedBox3d box;   ///< the pair's swept box when the list was made
+    std::vector<int> points;   ///< every point with the link's bit inside box grown by r_j + slack
   };
   /// Cell edge of the point index, m (about a link's swept box per piece).
   static constexpr double kCell_m = 0.25;
+  /// Cell edge of the selection's marks, m: the point index's, so a marked region costs no more
+  /// cells than the prefilter visits.
+  static constexpr double kSelectCell_m = 0.25;
   void index_points();
+  bool selecting() const { return settings_.selection_slack_m > 0.0 && map_key_ != 0; }
+  /// Level 1's radius r_j for link j (header comment "Selection").
+  double level1_radius_m(int link) const;
+  /// Marks the body's (link, piece) boxes grown by r_j + grow_m in `mask`.
+  void mark_boxes(CellMask& mask, double grow_m) const;
+  /// Every (link, piece) box of the body grown by r_j touches marked cells only.
+  bool selection_covers_body() const;
+  /// Collects the selected points from map_ (hints and frozen decisions carried over by key).
+  void collect_selected();
   Eigen::Vector3i cell_index(const Eigen::Vector3d& p) const;
   /// The prefilter (header comment): masks_[i] = links point i must be evaluated for.
   void find_candidates();
@@ -162,6 +234,11 @@ class SvsdfSafetyTerm : public SafetyTerm {
   /// prepare() gives the voxel size (points from set_points() have none).
   std::array<double, kNumLinks> certain_below_m_{};
   std::uint64_t map_key_ = 0;      ///< of the map points_ came from (0: none / set_points)
+  OccupancyGrid map_;              ///< a copy of that map (selection only: points are collected again from it)
+  CellMask selection_;             ///< the selection's marked cells (empty: every point of the map)
+  std::vector<std::uint64_t> keys_;  ///< per point: its key (obstacle_points.hpp), selection only
+  int collections_ = 0;
+  double collection_s_ = 0.0;
   std::vector<TimeHints> hints_;   ///< per point: t*_j of the last evaluate()
   /// Per point: the frozen ball-search decisions (allocated on first use; null: none).
   std::vector<std::unique_ptr<BallDecisions>> decisions_;
@@ -174,6 +251,8 @@ class SvsdfSafetyTerm : public SafetyTerm {
   /// Links point i is evaluated for (masks_ narrowed by the SDF level; bit 0 as in masks_).
   std::vector<std::uint32_t> tight_;
   std::vector<int> candidates_;
+  /// Per (link j, piece i), numbered j * pieces + i; each is touched by one worker per evaluation.
+  std::vector<PairList> pair_lists_;
 };
 
 }  // namespace porter::backend
