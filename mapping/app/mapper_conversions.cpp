@@ -36,9 +36,13 @@ bool to_sensor_cloud(const porter::point_cloud_t& msg, SensorCloud& out, std::st
   return true;
 }
 
-bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out, std::string& why) {
+bool to_state_sample(const porter::robot_state_t& msg, StateSample& out, std::string& why) {
   if (msg.utime < 0 || msg.utime > kMaxUtime) {
     why = "utime " + std::to_string(msg.utime) + " out of range";
+    return false;
+  }
+  if (msg.arm_utime < 0 || msg.arm_utime > kMaxUtime) {
+    why = "arm_utime " + std::to_string(msg.arm_utime) + " out of range";
     return false;
   }
   if (!std::isfinite(msg.x_m) || !std::isfinite(msg.y_m) || !std::isfinite(msg.yaw_rad)) {
@@ -53,7 +57,10 @@ bool to_configuration(const porter::robot_state_t& msg, RobotConfiguration& out,
     why = "q_rad size disagrees with num_joints";
     return false;
   }
+  out.utime = msg.utime;
   out.base = {msg.x_m, msg.y_m, msg.yaw_rad};
+  out.has_arm = msg.num_joints == kNumArmJoints;
+  out.arm_utime = msg.arm_utime != 0 ? msg.arm_utime : msg.utime;
   out.q_rad.setZero();
   for (int j = 0; j < msg.num_joints; ++j) {
     if (!std::isfinite(msg.q_rad[static_cast<std::size_t>(j)])) {

@@ -11,9 +11,9 @@ MapperNode::MapperNode(const MapperConfig& config, const RobotModel& robot)
     : config_(config), mapper_(robot, config.mapper), states_(config.state_history_s) {}
 
 void MapperNode::on_state(const porter::robot_state_t& msg) {
-  RobotConfiguration c;
+  StateSample c;
   std::string why;
-  const bool ok = to_configuration(msg, c, why);
+  const bool ok = to_state_sample(msg, c, why);
   {
     std::lock_guard<std::mutex> lock(mutex_);
     if (!ok) {
@@ -22,7 +22,13 @@ void MapperNode::on_state(const porter::robot_state_t& msg) {
       return;
     }
     ++counters_.states_received;
-    states_.add(msg.utime, c);
+    states_.add_base(c.utime, c.base);
+    // The arm sample is the newest ARM_STATE porter-state had: repeated until the next comes.
+    if (c.has_arm) {
+      states_.add_arm(c.arm_utime, c.q_rad);
+    } else {
+      ++counters_.states_without_arm;
+    }
   }
   cv_.notify_one();
 }
@@ -47,8 +53,13 @@ void MapperNode::on_cloud(const porter::point_cloud_t& msg, std::int64_t now_ns)
     if (processing_ || !queue_.empty()) ++counters_.arrived_while_busy;
     q.scan_id = msg.scan_id;
     q.received_ns = now_ns;
-    std::int32_t off_max = 0;
-    for (std::int32_t t : q.cloud.time_offset_ns) off_max = std::max(off_max, t);
+    std::int32_t off_min = 0, off_max = 0;
+    if (!q.cloud.time_offset_ns.empty()) {
+      const auto [lo, hi] = std::minmax_element(q.cloud.time_offset_ns.begin(), q.cloud.time_offset_ns.end());
+      off_min = *lo;
+      off_max = *hi;
+    }
+    q.start_us = q.cloud.utime + off_min / 1000;
     q.end_us = q.cloud.utime + off_max / 1000;
     if (static_cast<int>(queue_.size()) >= config_.max_queued_clouds) {
       queue_.pop_front();
@@ -62,20 +73,29 @@ void MapperNode::on_cloud(const porter::point_cloud_t& msg, std::int64_t now_ns)
 bool MapperNode::step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out) {
   Queued q;
   StateBuffer states;
-  bool expired = false;
   {
     std::unique_lock<std::mutex> lock(mutex_);
+    const auto wait_limit_ns = static_cast<std::int64_t>(config_.state_wait_s * 1e9);
+    // Drops the clouds at the front that the state will not cover; true when the front one is
+    // covered now.
     const auto ready = [&] {
-      if (queue_.empty()) return false;
-      if (states_.newest_us() >= queue_.front().end_us) return true;
-      return now_ns - queue_.front().received_ns >= static_cast<std::int64_t>(config_.state_wait_s * 1e9);
+      while (!queue_.empty()) {
+        const Queued& f = queue_.front();
+        if (states_.covers(f.start_us, f.end_us)) return true;
+        // Samples older than the first point were pruned (or the first sample came after it):
+        // waiting cannot help.
+        const bool never = states_.oldest_us() > f.start_us;
+        if (!never && now_ns - f.received_ns < wait_limit_ns) return false;
+        queue_.pop_front();
+        ++counters_.dropped_no_state;
+      }
+      return false;
     };
-    // A cloud whose state wait expires during this wait is taken by the next step().
+    // A cloud whose state wait expires during this wait is dropped by the next step().
     if (!ready() && wait_ns > 0) cv_.wait_for(lock, std::chrono::nanoseconds(wait_ns));
     if (!ready()) return false;
     q = std::move(queue_.front());
     queue_.pop_front();
-    expired = states_.newest_us() < q.end_us;
     states = states_;
     processing_ = true;
   }
@@ -87,7 +107,6 @@ bool MapperNode::step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out
   std::lock_guard<std::mutex> lock(mutex_);
   processing_ = false;
   ++counters_.clouds_processed;
-  counters_.state_wait_expired += expired;
   counters_.points_state_outside += out.report.filter.state_outside;
   if (out.map_due) last_map_ns_ = now_ns;
   return true;

@@ -3,8 +3,15 @@
 // process, the replay test and the process test run the same code):
 //
 //   receiver thread:  on_state(ROBOT_STATE), on_cloud(LIDAR_POINTS)  — never block for long
-//   worker thread:    step(now) — processes the oldest queued cloud once ROBOT_STATE covers its
-//                     last point (or it waited state_wait_s), and says when a map is due.
+//   worker thread:    step(now) — processes the oldest queued cloud once ROBOT_STATE covers it
+//                     (base and arm samples at or before its first point and at or after its
+//                     last), and says when a map is due.
+//
+// A cloud the state does not cover within state_wait_s of its arrival, or can no longer cover
+// (its first point is older than the history kept), is dropped and counted
+// (dropped_no_state), never integrated with a held state: the self-filter needs the arm where
+// it was at each point's time, and a cloud filtered with a stale arm leaves the robot's own
+// points in the map as obstacles in front of it.
 //
 // No cloud is dropped silently: a cloud that arrives while another is being processed or
 // waits is counted (arrived_while_busy); when the queue (max_queued_clouds) is full the oldest
@@ -37,7 +44,8 @@ struct MapperCounters {
   std::uint64_t lost_upstream = 0;
   std::uint64_t rejected = 0;
   std::uint64_t states_received = 0;
-  std::uint64_t state_wait_expired = 0;   ///< processed without a state covering the scan end
+  std::uint64_t states_without_arm = 0;   ///< ROBOT_STATEs with no joints (base pose only used)
+  std::uint64_t dropped_no_state = 0;     ///< dropped: no state covering the scan in time
   std::uint64_t points_state_outside = 0; ///< points posed with a held (not interpolated) state
   std::uint64_t maps = 0;
   std::string last_reject;
@@ -71,7 +79,8 @@ class MapperNode {
     SensorCloud cloud;
     std::int64_t scan_id = 0;
     std::int64_t received_ns = 0;
-    std::int64_t end_us = 0;
+    std::int64_t start_us = 0;  ///< first point's time
+    std::int64_t end_us = 0;    ///< last point's time
   };
   MapperConfig config_;
   Mapper mapper_;

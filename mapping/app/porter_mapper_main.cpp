@@ -120,7 +120,8 @@ int main(int argc, char** argv) {
 
   rt::Heartbeat heartbeat(bus, "porter-mapper");
   double last_log = rt::mono_s();
-  std::uint64_t busy_seen = 0, dropped_seen = 0;
+  std::uint64_t busy_seen = 0, dropped_seen = 0, no_state_seen = 0;
+  double last_no_state_s = -1e9;  // when a cloud was last dropped for want of a covering state
   while (!rt::stop_requested()) {
     pollfd fds[2] = {{bus.fileno(), POLLIN, 0}, {rt::stop_fd(), POLLIN, 0}};
     ::poll(fds, 2, 100);
@@ -129,12 +130,23 @@ int main(int argc, char** argv) {
     std::string status = "clouds " + std::to_string(c.clouds_processed) + "/" + std::to_string(c.clouds_received) +
                          ", arrived while busy " + std::to_string(c.arrived_while_busy) + ", dropped " +
                          std::to_string(c.dropped_queue_full) + ", lost upstream " + std::to_string(c.lost_upstream) +
-                         ", rejected " + std::to_string(c.rejected) + ", state wait expired " +
-                         std::to_string(c.state_wait_expired) + ", maps " + std::to_string(c.maps);
+                         ", rejected " + std::to_string(c.rejected) + ", dropped without state " +
+                         std::to_string(c.dropped_no_state) + ", states without arm " +
+                         std::to_string(c.states_without_arm) + ", maps " + std::to_string(c.maps);
     if (publish_failures > 0) status += ", publish failures " + std::to_string(publish_failures.load());
     auto health = rt::HeartbeatHealth::ok;
     if (c.clouds_received == 0 || c.states_received == 0) health = rt::HeartbeatHealth::warn;
-    if (c.dropped_queue_full > 0 || c.rejected > 0 || c.state_wait_expired > 0) health = rt::HeartbeatHealth::warn;
+    if (c.dropped_no_state != no_state_seen) {
+      rt::log_warn("clouds dropped without a ROBOT_STATE covering them (base and arm) within " +
+                   ms(cfg.state_wait_s) + ": " + std::to_string(c.dropped_no_state) + " (ROBOT_STATEs without arm: " +
+                   std::to_string(c.states_without_arm) + ")");
+      no_state_seen = c.dropped_no_state;
+      last_no_state_s = rt::mono_s();
+    }
+    // A drop for want of state warns for one status period (the first clouds of a run come
+    // before porter-state has the arm); queue drops and rejections warn for good.
+    const bool recent_no_state = rt::mono_s() - last_no_state_s < cfg.status_log_period_s;
+    if (c.dropped_queue_full > 0 || c.rejected > 0 || recent_no_state) health = rt::HeartbeatHealth::warn;
     heartbeat.update(health, status);
     if (c.arrived_while_busy != busy_seen || c.dropped_queue_full != dropped_seen) {
       rt::log_warn("clouds arrived while busy: " + std::to_string(c.arrived_while_busy) + ", dropped: " +
@@ -164,6 +176,7 @@ int main(int argc, char** argv) {
   const pm::app::MapperCounters c = node.counters();
   rt::log_info("stopping: " + std::to_string(c.clouds_processed) + " clouds processed of " +
                std::to_string(c.clouds_received) + ", " + std::to_string(c.arrived_while_busy) + " arrived while busy, " +
-               std::to_string(c.dropped_queue_full) + " dropped, " + std::to_string(c.maps) + " maps");
+               std::to_string(c.dropped_queue_full) + " dropped, " + std::to_string(c.dropped_no_state) +
+               " dropped without state, " + std::to_string(c.maps) + " maps");
   return 0;
 }

@@ -10,52 +10,98 @@ double wrap_angle(double a) {
   a = std::remainder(a, 2.0 * M_PI);
   return a <= -M_PI ? a + 2.0 * M_PI : a;
 }
+
+BasePose interpolate_base(const BasePose& a, const BasePose& b, double s) {
+  BasePose c;
+  c.x_m = a.x_m + s * (b.x_m - a.x_m);
+  c.y_m = a.y_m + s * (b.y_m - a.y_m);
+  c.yaw_rad = wrap_angle(a.yaw_rad + s * wrap_angle(b.yaw_rad - a.yaw_rad));
+  return c;
+}
+
+using Lookup = StateBuffer::Lookup;
+
+// Value of a track at t: the interpolation of its samples (Sample has t_us; get(sample) gives
+// the value; lerp(a, b, s) interpolates).
+template <class Track, class Value, class Get, class Lerp>
+Lookup track_at(const Track& track, std::int64_t t_us, Value& out, Get get, Lerp lerp) {
+  if (track.empty()) return Lookup::empty;
+  if (t_us < track.front().t_us) {
+    out = get(track.front());
+    return Lookup::before_first;
+  }
+  if (t_us > track.back().t_us) {
+    out = get(track.back());
+    return Lookup::after_last;
+  }
+  // First sample at or after t.
+  const auto it = std::lower_bound(track.begin(), track.end(), t_us,
+                                   [](const auto& s, std::int64_t t) { return s.t_us < t; });
+  if (it->t_us == t_us || it == track.begin()) {
+    out = get(*it);
+    return Lookup::inside;
+  }
+  const auto& a = *(it - 1);
+  const auto& b = *it;
+  const double s = static_cast<double>(t_us - a.t_us) / static_cast<double>(b.t_us - a.t_us);
+  out = lerp(get(a), get(b), s);
+  return Lookup::inside;
+}
+
 }  // namespace
 
 RobotConfiguration interpolate_configuration(const RobotConfiguration& a, const RobotConfiguration& b,
                                              double s) {
   RobotConfiguration c;
-  c.base.x_m = a.base.x_m + s * (b.base.x_m - a.base.x_m);
-  c.base.y_m = a.base.y_m + s * (b.base.y_m - a.base.y_m);
-  c.base.yaw_rad = wrap_angle(a.base.yaw_rad + s * wrap_angle(b.base.yaw_rad - a.base.yaw_rad));
+  c.base = interpolate_base(a.base, b.base, s);
   c.q_rad = a.q_rad + s * (b.q_rad - a.q_rad);
   return c;
 }
 
 void StateBuffer::add(std::int64_t t_us, const RobotConfiguration& config) {
-  if (!samples_.empty() && t_us <= samples_.back().t_us) {
+  add_base(t_us, config.base);
+  add_arm(t_us, config.q_rad);
+}
+
+void StateBuffer::add_base(std::int64_t t_us, const BasePose& base) {
+  if (!base_.empty() && t_us <= base_.back().t_us) {
     ++rejected_;
     return;
   }
-  samples_.push_back({t_us, config});
-  while (samples_.size() > 2 && samples_.front().t_us < t_us - keep_us_) samples_.pop_front();
+  base_.push_back({t_us, base});
+  while (base_.size() > 2 && base_.front().t_us < t_us - keep_us_) base_.pop_front();
+}
+
+bool StateBuffer::add_arm(std::int64_t t_us, const JointVector& q_rad) {
+  if (!arm_.empty() && t_us <= arm_.back().t_us) return false;
+  arm_.push_back({t_us, q_rad});
+  while (arm_.size() > 2 && arm_.front().t_us < t_us - keep_us_) arm_.pop_front();
+  return true;
 }
 
 StateBuffer::Lookup StateBuffer::at(std::int64_t t_us, RobotConfiguration& out) const {
-  if (samples_.empty()) {
-    out = RobotConfiguration{};
-    return Lookup::empty;
-  }
-  if (t_us < samples_.front().t_us) {
-    out = samples_.front().config;
-    return Lookup::before_first;
-  }
-  if (t_us > samples_.back().t_us) {
-    out = samples_.back().config;
-    return Lookup::after_last;
-  }
-  // First sample at or after t.
-  const auto it = std::lower_bound(samples_.begin(), samples_.end(), t_us,
-                                   [](const Sample& s, std::int64_t t) { return s.t_us < t; });
-  if (it->t_us == t_us || it == samples_.begin()) {
-    out = it->config;
-    return Lookup::inside;
-  }
-  const Sample& a = *(it - 1);
-  const Sample& b = *it;
-  const double s = static_cast<double>(t_us - a.t_us) / static_cast<double>(b.t_us - a.t_us);
-  out = interpolate_configuration(a.config, b.config, s);
-  return Lookup::inside;
+  out = RobotConfiguration{};
+  const Lookup b = track_at(base_, t_us, out.base, [](const BaseSample& s) { return s.base; }, interpolate_base);
+  const Lookup a = track_at(
+      arm_, t_us, out.q_rad, [](const ArmSample& s) -> JointVector { return s.q_rad; },
+      [](const JointVector& x, const JointVector& y, double s) -> JointVector { return x + s * (y - x); });
+  return static_cast<Lookup>(std::max(static_cast<int>(a), static_cast<int>(b)));
+}
+
+bool StateBuffer::covers(std::int64_t t0_us, std::int64_t t1_us) const {
+  if (base_.empty() || arm_.empty()) return false;
+  return base_.front().t_us <= t0_us && arm_.front().t_us <= t0_us && base_.back().t_us >= t1_us &&
+         arm_.back().t_us >= t1_us;
+}
+
+std::int64_t StateBuffer::oldest_us() const {
+  if (base_.empty() || arm_.empty()) return 0;
+  return std::max(base_.front().t_us, arm_.front().t_us);
+}
+
+std::int64_t StateBuffer::newest_us() const {
+  if (base_.empty() || arm_.empty()) return 0;
+  return std::min(base_.back().t_us, arm_.back().t_us);
 }
 
 }  // namespace porter::mapping

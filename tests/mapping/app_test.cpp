@@ -65,7 +65,7 @@ TEST(MapperConfig, ShippedConfigLoadsAndIsStrict) {
   expect_load_error(text + "\nsurprise: 1\n", "surprise");
   expect_load_error(replace(text, "  margin_m: 0.05\n", ""), "margin_m");
   expect_load_error(replace(text, "  margin_m: 0.05", "  margin_m: -0.05"), "margin_m");
-  expect_load_error(replace(text, "  max_clouds: 1", "  max_clouds: 0"), "max_clouds");
+  expect_load_error(replace(text, "  max_clouds: 6", "  max_clouds: 0"), "max_clouds");
   expect_load_error(replace(text, "  size_voxels: [400, 400, 64]", "  size_voxels: [400.5, 400, 64]"), "size_voxels");
   expect_load_error(replace(text, "  prob_hit: 0.7", "  prob_hit: 0.3"), "prob_hit");
   expect_load_error(replace(text, "publish_rate_hz: 2.0", "publish_rate_hz: abc"), "publish_rate_hz");
@@ -110,7 +110,8 @@ app::MapperConfig small_config() {
 }
 
 TEST(MapperNode, CountsCloudsArrivingWhileBusyAndWaitsForTheState) {
-  const app::MapperConfig cfg = small_config();
+  app::MapperConfig cfg = small_config();
+  cfg.max_queued_clouds = 1;
   const RobotModel robot = test::robot_with("long_bar");
   app::MapperNode node(cfg, robot);
   SensorCloud c;
@@ -140,13 +141,15 @@ TEST(MapperNode, CountsCloudsArrivingWhileBusyAndWaitsForTheState) {
   EXPECT_EQ(r.report.integrate.hits, 100u);
   EXPECT_FALSE(node.step(3'000'002, 0, r));
 
-  // A cloud whose state never comes is processed once state.wait_s has passed (and counted).
+  // A cloud whose state never comes is dropped once state.wait_s has passed (and counted), not
+  // filtered with a held state.
   c.utime = 5'000'000;
   node.on_cloud(cloud_msg(c, 6), 10'000'000);
   EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9) - 1, 0, r));
-  EXPECT_TRUE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9), 0, r));
-  EXPECT_GT(r.report.filter.state_outside, 0u);
-  EXPECT_EQ(node.counters().state_wait_expired, 1u);
+  EXPECT_EQ(node.counters().dropped_no_state, 0u);
+  EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9), 0, r));
+  EXPECT_EQ(node.counters().dropped_no_state, 1u);
+  EXPECT_EQ(node.counters().clouds_processed, 1u);
 
   // Malformed input is counted, not processed.
   porter::point_cloud_t bad = cloud_msg(c, 7);
@@ -163,6 +166,66 @@ TEST(MapperNode, CountsCloudsArrivingWhileBusyAndWaitsForTheState) {
   EXPECT_EQ(k.rejected, 3u);
   EXPECT_NE(k.last_reject.find("num_joints"), std::string::npos) << k.last_reject;
   EXPECT_FALSE(node.step(12'000'000'000, 0, r));
+}
+
+TEST(MapperNode, PosesTheArmOnArmUtimeAndNeedsBothBaseAndArmToCoverACloud) {
+  app::MapperConfig cfg = small_config();
+  cfg.max_queued_clouds = 4;
+  const RobotModel robot = test::robot_with("long_bar");
+  app::MapperNode node(cfg, robot);
+  SensorCloud c;
+  c.utime = 2'000'000;
+  for (int i = 0; i < 100; ++i) {
+    c.x_m.push_back(2.0f);
+    c.y_m.push_back(0.01f * i);
+    c.z_m.push_back(0.0f);
+    c.time_offset_ns.push_back(i * 1'000'000);  // first point at 2.0 s, last at 2.099 s
+  }
+  // States without joints (porter-state before the first ARM_STATE) pose the base only.
+  for (std::int64_t t = 1'900'000; t <= 2'200'000; t += 10'000) {
+    porter::robot_state_t m = state_msg(t, test::config_at(0, 0, 0));
+    m.num_joints = 0;
+    m.q_rad.clear();
+    m.qd_radps.clear();
+    node.on_state(m);
+  }
+  EXPECT_EQ(node.counters().states_without_arm, 31u);
+  node.on_cloud(cloud_msg(c, 1), 0);
+  app::StepResult r;
+  EXPECT_FALSE(node.step(1'000'000, 0, r));  // the arm is unknown: no cloud is filtered with q = 0
+  // Joint angles stamped with their own time (arm_utime), 0.2 s before utime: the arm track
+  // holds 2.01..2.13 s. Scan 1 begins before it and can never be covered: dropped at once.
+  for (std::int64_t t = 2'210'000; t <= 2'330'000; t += 10'000) {
+    porter::robot_state_t m = state_msg(t, test::config_at(0, 0, 0));
+    m.arm_utime = t - 200'000;
+    node.on_state(m);
+  }
+  EXPECT_FALSE(node.step(2'000'000, 0, r));
+  EXPECT_EQ(node.counters().dropped_no_state, 1u);
+  // Scan 2 (2.02..2.119 s) lies inside both tracks.
+  c.utime = 2'020'000;
+  node.on_cloud(cloud_msg(c, 2), 3'000'000);
+  ASSERT_TRUE(node.step(3'000'000, 0, r));
+  EXPECT_EQ(r.scan_id, 2);
+  EXPECT_EQ(r.report.filter.state_outside, 0u);
+  // Scan 3 ends at 2.149 s, after the newest arm sample (2.13 s), though the base reaches 2.33 s.
+  c.utime = 2'050'000;
+  node.on_cloud(cloud_msg(c, 3), 4'000'000);
+  EXPECT_FALSE(node.step(4'000'000, 0, r));
+  porter::robot_state_t m = state_msg(2'400'000, test::config_at(0, 0, 0));
+  m.arm_utime = 2'000'000;  // not newer than the arm track's newest: ignored
+  node.on_state(m);
+  EXPECT_FALSE(node.step(4'000'001, 0, r));
+  m = state_msg(2'410'000, test::config_at(0, 0, 0));
+  m.arm_utime = 2'150'000;
+  node.on_state(m);
+  ASSERT_TRUE(node.step(4'000'002, 0, r));
+  EXPECT_EQ(r.scan_id, 3);
+  EXPECT_EQ(r.report.filter.state_outside, 0u);
+  const app::MapperCounters k = node.counters();
+  EXPECT_EQ(k.clouds_processed, 2u);
+  EXPECT_EQ(k.dropped_no_state, 1u);
+  EXPECT_EQ(k.states_without_arm, 31u);
 }
 
 /// Runs every event of an LCM log through a fresh node on an in-process bus; the final map.

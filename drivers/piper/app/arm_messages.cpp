@@ -37,6 +37,12 @@ std::optional<ArmCommand> to_command(const porter::arm_cmd_t& msg, std::string& 
   return cmd;
 }
 
+std::int64_t arm_state_utime(const ArmFeedback& fb, std::int64_t wall_now_us, double mono_now_s) {
+  if (fb.joints_t_s < 0.0) return 0;
+  if (fb.joints_frame_utime != 0) return fb.joints_frame_utime;
+  return wall_now_us - static_cast<std::int64_t>((mono_now_s - fb.joints_t_s) * 1e6);
+}
+
 porter::arm_state_t to_arm_state(const ArmFeedback& fb, const ArmDriverStatus& status, std::int64_t utime) {
   porter::arm_state_t m;
   m.utime = utime;

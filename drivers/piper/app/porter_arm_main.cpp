@@ -147,8 +147,7 @@ int main(int argc, char** argv) {
 
     const porter::piper::ArmDriverStatus status = driver.status(t);
     const porter::piper::ArmFeedback& fb = driver.feedback();
-    const std::int64_t utime =
-        fb.joints_t_s < 0.0 ? 0 : rt::wall_utime() - static_cast<std::int64_t>((rt::mono_s() - fb.joints_t_s) * 1e6);
+    const std::int64_t utime = porter::piper::arm_state_utime(fb, rt::wall_utime(), rt::mono_s());
     lcm.publish(porter::channels::kArmState, porter::piper::to_arm_state(fb, status, utime));
     log_events(driver);
 

@@ -100,6 +100,7 @@ void ArmDriver::on_frame(const can::CanFrame& f, double t_s) {
       fb_.q_rad[jp.first + 1] = mdeg_to_rad(jp.mdeg[1]);
       joint_pair_t_[jp.first / 2] = t_s;
       fb_.joints_t_s = t_s;
+      fb_.joints_frame_utime = f.utime;
     }
   } else if (f.id == id::kGripperFeedback) {
     GripperFeedback g;

@@ -10,6 +10,8 @@
 #include <regex>
 
 #include "arm_messages.hpp"
+#include "porter/piper/arm_driver.hpp"
+#include "porter/piper/feedback.hpp"
 #include "porter/core/load_error.hpp"
 #include "porter_arm_params.hpp"
 
@@ -185,6 +187,22 @@ TEST(PorterArmMessages, StateCarriesFeedbackFlagsAndFaultNames) {
   EXPECT_TRUE(m.link_ok);
   fb.have_status = false;
   EXPECT_EQ(to_arm_state(fb, st, 0).ctrl_mode, porter::arm_state_t::CTRL_UNKNOWN);
+}
+
+TEST(PorterArmMessages, StateIsStampedWithTheJointFramesOwnTime) {
+  ArmFeedback fb;
+  EXPECT_EQ(arm_state_utime(fb, 5'000'000, 10.0), 0);  // no joint-angle frame yet
+  // A joint-angle frame through the driver: its CanFrame::utime (porter-sim's clock here, 2 s
+  // behind the wall clock) is the stamp, not the time the driver handled it.
+  ArmDriver driver(ArmDriverParams{});
+  can::CanFrame f = encode_joint_angle_pair({0, {1000, 2000}});
+  f.utime = 3'000'000;
+  driver.on_frame(f, 9.99);
+  EXPECT_EQ(driver.feedback().joints_frame_utime, 3'000'000);
+  EXPECT_EQ(arm_state_utime(driver.feedback(), 5'000'000, 10.0), 3'000'000);
+  // A bus without stamps: the wall-clock time of the receipt.
+  fb.joints_t_s = 9.5;
+  EXPECT_EQ(arm_state_utime(fb, 5'000'000, 10.0), 4'500'000);
 }
 
 }  // namespace

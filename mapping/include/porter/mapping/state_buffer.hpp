@@ -3,8 +3,16 @@
 // any time inside it: the mapper poses each LiDAR point with the state at that point's time
 // (de-skewing the sweep of a moving robot) and poses the self-filter with the arm at it.
 //
+// Two tracks, each on its own stamps: the base pose (ROBOT_STATE.utime, the instant of the
+// odometry / LIO pose) and the arm's joint angles (ROBOT_STATE.arm_utime, the instant of the
+// ARM_STATE sample porter-state passed on). porter-state publishes the newest arm sample with
+// every state at 100 Hz, so the joint angles of a ROBOT_STATE are older than its utime by the
+// arm's own latency; pairing them with utime would pose the arm late (docs/mapping.md,
+// "Self-filter on a moving robot"). A configuration at time t is the base interpolated at t and
+// the arm interpolated at t, each from its own samples.
+//
 // Interpolation is linear in x, y and the joint angles and along the shorter arc in yaw.
-// Outside the sampled span the nearest sample is held and at() says so.
+// Outside a track's sampled span its nearest sample is held and at() says so.
 //
 // Time: µs on the clock of ROBOT_STATE.utime and point_cloud_t.utime (both wall-clock utime).
 // Thread-safety: none; the mapper process guards its buffer with a mutex.
@@ -18,31 +26,54 @@ namespace porter::mapping {
 
 class StateBuffer {
  public:
-  /// Samples older than keep_s before the newest are dropped.
+  /// Samples older than keep_s before the newest (per track) are dropped.
   explicit StateBuffer(double keep_s = 2.0) : keep_us_(static_cast<std::int64_t>(keep_s * 1e6)) {}
 
-  /// Adds a sample. A time not after the newest sample is ignored and counted in rejected().
+  /// Adds a base and an arm sample of the same instant (a simulator's ground truth, tests).
   void add(std::int64_t t_us, const RobotConfiguration& config);
+  /// Adds a base pose sample. A time not after the newest base sample is ignored and counted
+  /// in rejected().
+  void add_base(std::int64_t t_us, const BasePose& base);
+  /// Adds an arm sample stamped with its own time. A stamp not after the newest arm sample is
+  /// ignored (porter-state repeats an arm sample until the next arrives): returns false.
+  bool add_arm(std::int64_t t_us, const JointVector& q_rad);
 
-  /// Where at() found the time.
+  /// Where at() found the time (the worse of the two tracks: empty, then before/after, then
+  /// inside).
   enum class Lookup { inside, before_first, after_last, empty };
-  /// Configuration at t_us (see above).
+  /// Configuration at t_us (see above). An empty arm track gives q = 0 and Lookup::empty.
   Lookup at(std::int64_t t_us, RobotConfiguration& out) const;
 
-  bool empty() const { return samples_.empty(); }
-  std::size_t size() const { return samples_.size(); }
-  std::int64_t oldest_us() const { return samples_.empty() ? 0 : samples_.front().t_us; }
-  std::int64_t newest_us() const { return samples_.empty() ? 0 : samples_.back().t_us; }
+  /// True when both tracks hold samples at or before t0_us and at or after t1_us: every time
+  /// in [t0_us, t1_us] is interpolated, nothing held.
+  bool covers(std::int64_t t0_us, std::int64_t t1_us) const;
+
+  bool empty() const { return base_.empty() && arm_.empty(); }
+  std::size_t base_size() const { return base_.size(); }
+  std::size_t arm_size() const { return arm_.size(); }
+  /// The span both tracks cover: [max of the oldest, min of the newest]; 0 when a track is empty.
+  std::int64_t oldest_us() const;
+  std::int64_t newest_us() const;
+  std::int64_t newest_base_us() const { return base_.empty() ? 0 : base_.back().t_us; }
+  std::int64_t newest_arm_us() const { return arm_.empty() ? 0 : arm_.back().t_us; }
   std::uint64_t rejected() const { return rejected_; }
-  void clear() { samples_.clear(); }
+  void clear() {
+    base_.clear();
+    arm_.clear();
+  }
 
  private:
-  struct Sample {
+  struct BaseSample {
     std::int64_t t_us;
-    RobotConfiguration config;
+    BasePose base;
+  };
+  struct ArmSample {
+    std::int64_t t_us;
+    JointVector q_rad;
   };
   std::int64_t keep_us_;
-  std::deque<Sample> samples_;
+  std::deque<BaseSample> base_;
+  std::deque<ArmSample> arm_;
   std::uint64_t rejected_ = 0;
 };
 

@@ -83,6 +83,9 @@ struct ArmFeedback {
   std::uint8_t motion_status = 0;
   std::uint16_t err_code = 0;
   double joints_t_s = -1.0;       ///< receive time of the newest joint-angle frame, -1 = none
+  /// The newest joint-angle frame's own stamp (CanFrame::utime: the kernel's receive time on
+  /// SocketCAN, porter-sim's clock on a simulated bus), 0 = none or not stamped.
+  std::int64_t joints_frame_utime = 0;
 };
 
 /// The driver's view for ARM_STATE, the heartbeat and logs.
