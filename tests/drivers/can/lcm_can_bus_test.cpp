@@ -46,7 +46,11 @@ TEST(LcmCanBus, MalformedMessagesAreCountedAndDropped) {
   LcmCanBus node(channels::kCanArm.info, kUrl, "porter-arm");
   ASSERT_TRUE(node.is_open());
   LcmBus raw(kUrl);
-  porter::can_frame_t bad;
+  porter::can_frame_t bad;  // LCM 1.3.1's generated types leave scalar fields uninitialised
+  bad.utime = 0;
+  bad.bus = "arm";
+  bad.extended = false;
+  bad.rtr = false;
   bad.sender = "intruder";
   bad.id = 0x155;
   bad.dlc = 3;
