@@ -202,9 +202,30 @@ std::int64_t fill_unknown_below_occupied(const octomap::OcTree& tree, OccupancyG
     };
     return (side(1, 0) && side(-1, 0)) || (side(0, 1) && side(0, -1));
   };
+  // Columns holding an occupied voxel (x + nx * y): the OR of the grid's z layers, a word at a
+  // time. Only those can be filled; most columns of a map hold none (the walk below cost ~0.2 s
+  // on a 480 x 480 x 80 grid when it visited every voxel).
+  const std::int64_t layer_bits = static_cast<std::int64_t>(n.x()) * n.y();
+  std::vector<std::uint64_t> column((static_cast<std::size_t>(layer_bits) + 63) / 64, 0);
+  const std::vector<std::uint64_t>& words = grid.words();
+  for (int z = 0; z < n.z(); ++z) {
+    const std::int64_t first = layer_bits * z;
+    const int shift = static_cast<int>(first & 63);
+    const std::size_t w0 = static_cast<std::size_t>(first >> 6);
+    for (std::size_t k = 0; k < column.size(); ++k) {
+      // Bits [first + 64 k, first + 64 k + 64) of the grid; past the layer's end they belong to
+      // the next layer and are masked off below.
+      std::uint64_t v = words[w0 + k] >> shift;
+      if (shift != 0 && w0 + k + 1 < words.size()) v |= words[w0 + k + 1] << (64 - shift);
+      column[k] |= v;
+    }
+  }
+  if (layer_bits % 64 != 0) column.back() &= (std::uint64_t{1} << (layer_bits % 64)) - 1;
   std::int64_t marked = 0;
   for (int y = 0; y < n.y(); ++y)
     for (int x = 0; x < n.x(); ++x) {
+      const std::int64_t c = x + static_cast<std::int64_t>(n.x()) * y;
+      if (((column[static_cast<std::size_t>(c >> 6)] >> (c & 63)) & 1u) == 0) continue;
       if (robot_W != nullptr && (grid.voxel_center_W(x, y, 0).head<2>() - *robot_W).norm() < clear_radius_m) continue;
       bool below_obstacle = false;
       for (int z = n.z() - 1; z >= 0; --z) {
