@@ -81,10 +81,13 @@ void MapKernel::allocate(const OccupancyGrid& grid) {
   sat_.assign(static_cast<std::size_t>(dims_.x() + 1) * static_cast<std::size_t>(dims_.y() + 1), 0);
 }
 
-bool MapKernel::copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats) {
+bool MapKernel::copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats, std::vector<ChangeBox>* tiles) {
   const std::vector<std::uint64_t>& src = grid.words();
   const std::int64_t nx = grid_dims_.x();
   std::vector<std::uint64_t> tmp(static_cast<std::size_t>(words_per_row_));
+  constexpr int T = kChangeTileVoxels;
+  const int ntx = (grid_dims_.x() + T - 1) / T, nty = (grid_dims_.y() + T - 1) / T;
+  if (tiles) tiles->assign(static_cast<std::size_t>(ntx) * static_cast<std::size_t>(nty), ChangeBox{});
   bool changed = false;
   for (int iz = 0; iz < grid_dims_.z(); ++iz)
     for (int iy = 0; iy < grid_dims_.y(); ++iy) {
@@ -109,6 +112,15 @@ bool MapKernel::copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats)
         stats.changed_lo = first ? lo : Eigen::Vector3i(stats.changed_lo.cwiseMin(lo));
         stats.changed_hi = first ? hi : Eigen::Vector3i(stats.changed_hi.cwiseMax(hi));
         stats.changed_voxels += static_cast<std::int64_t>(std::bitset<64>(diff).count());
+        if (tiles) {
+          for (int tx = std::max(x_first, 0) / T; tx <= std::min(x_last, grid_dims_.x() - 1) / T; ++tx) {
+            ChangeBox& b = (*tiles)[static_cast<std::size_t>(tx + ntx * (iy / T))];
+            const Eigen::Vector3i a(std::max(x_first, tx * T), iy, iz), c(std::min(x_last, tx * T + T - 1), iy, iz);
+            const bool fresh = b.empty();
+            b.lo = fresh ? a : Eigen::Vector3i(b.lo.cwiseMin(a));
+            b.hi = fresh ? c : Eigen::Vector3i(b.hi.cwiseMax(c));
+          }
+        }
         dst[kw] = tmp[static_cast<std::size_t>(kw)];
       }
     }
@@ -212,6 +224,47 @@ void MapKernel::rebuild_rows(int y0, int y1, int z0, int z1) {
     }
 }
 
+std::vector<MapKernel::ChangeBox> MapKernel::merge_change_boxes(const std::vector<ChangeBox>& tiles, int grow,
+                                                                const Eigen::Vector3i& dims) {
+  std::vector<ChangeBox> boxes;
+  for (const ChangeBox& b : tiles)
+    if (!b.empty()) boxes.push_back(b);
+  // Voxels of a box grown by `grow` on every side (the region its update touches).
+  auto grown_volume = [grow, &dims](const ChangeBox& b) {
+    const Eigen::Vector3i lo = (b.lo - Eigen::Vector3i::Constant(grow)).cwiseMax(-2);
+    const Eigen::Vector3i hi = (b.hi + Eigen::Vector3i::Constant(grow)).cwiseMin(dims + Eigen::Vector3i::Ones());
+    const Eigen::Vector3i e = (hi - lo + Eigen::Vector3i::Ones()).cwiseMax(1);
+    return static_cast<double>(e.x()) * e.y() * e.z();
+  };
+  auto unite = [](const ChangeBox& a, const ChangeBox& b) {
+    ChangeBox u;
+    u.lo = a.lo.cwiseMin(b.lo);
+    u.hi = a.hi.cwiseMax(b.hi);
+    return u;
+  };
+  // Beyond this many boxes the pairwise merging costs more than it saves: one box.
+  constexpr std::size_t kMaxBoxes = 64;
+  if (boxes.size() > kMaxBoxes) {
+    ChangeBox all = boxes.front();
+    for (const ChangeBox& b : boxes) all = unite(all, b);
+    return {all};
+  }
+  // Greedy: merge a pair while one update over the union costs no more than the two apart.
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t i = 0; i < boxes.size() && !merged; ++i)
+      for (std::size_t j = i + 1; j < boxes.size() && !merged; ++j) {
+        const ChangeBox u = unite(boxes[i], boxes[j]);
+        if (grown_volume(u) <= grown_volume(boxes[i]) + grown_volume(boxes[j])) {
+          boxes[i] = u;
+          boxes.erase(boxes.begin() + static_cast<std::ptrdiff_t>(j));
+          merged = true;
+        }
+      }
+  }
+  return boxes;
+}
+
 MapUpdateStats MapKernel::set_map(const OccupancyGrid& grid) {
   if (grid.num_voxels() == 0) throw std::invalid_argument("MapKernel: empty occupancy grid");
   MapUpdateStats stats;
@@ -226,20 +279,38 @@ MapUpdateStats MapKernel::set_map(const OccupancyGrid& grid) {
     return stats;
   }
   stats.incremental = true;
-  if (!copy_grid_rows(grid, stats)) return stats;
+  std::vector<ChangeBox> tiles;
+  if (!copy_grid_rows(grid, stats, &tiles)) return stats;
+  // The changes of a mapper's update are scattered over the map (a few voxels here and there in
+  // the sensor's range): one box around all of them made the distance field's update as costly
+  // as a rebuild (120-240 ms on a 36 x 24 x 4 m grid with ~100 changed voxels). The tiles' boxes
+  // are merged where one update over their union costs no more than two, and each is updated
+  // on its own; the sets and the field are exact either way (each update recomputes its region
+  // from O).
   const int reach = margin_voxels_ + 1;
-  const Eigen::Vector3i lo = stats.changed_lo + Eigen::Vector3i::Constant(pad_ - reach);
-  const Eigen::Vector3i hi = stats.changed_hi + Eigen::Vector3i::Constant(pad_ + reach);
-  rebuild_rows(lo.y(), hi.y(), lo.z(), hi.z());
-  rebuild_projection();
-  // Cells whose voxels may have changed in the arm set, grown by the distance cap: every cell
-  // whose (capped) distance can see a changed voxel.
   const int cap_cells = static_cast<int>(std::ceil(cap_units_ / (4.0 * kCellVoxels))) + 2;  // cap in cells
-  const Eigen::Vector3i cell_lo =
-      ((lo - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels - Eigen::Vector3i::Constant(cap_cells);
-  const Eigen::Vector3i cell_hi =
-      ((hi - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels + Eigen::Vector3i::Constant(cap_cells);
-  rebuild_clearance(cell_lo, cell_hi);
+  // An update's region: the box grown by the rows' reach and the cap (the cells), then by the
+  // distance transform's own reach (rebuild_clearance's domain).
+  const int domain_reach = static_cast<int>(std::ceil(cap_units_ / 4.0)) + 2;
+  const std::vector<ChangeBox> boxes =
+      merge_change_boxes(tiles, kCellVoxels * cap_cells + reach + domain_reach, grid_dims_);
+  for (const ChangeBox& b : boxes) {
+    const Eigen::Vector3i lo = b.lo + Eigen::Vector3i::Constant(pad_ - reach);
+    const Eigen::Vector3i hi = b.hi + Eigen::Vector3i::Constant(pad_ + reach);
+    rebuild_rows(lo.y(), hi.y(), lo.z(), hi.z());
+  }
+  rebuild_projection();
+  for (const ChangeBox& b : boxes) {
+    // Cells whose voxels may have changed in the arm set, grown by the distance cap: every cell
+    // whose (capped) distance can see a changed voxel.
+    const Eigen::Vector3i lo = b.lo + Eigen::Vector3i::Constant(pad_ - reach);
+    const Eigen::Vector3i hi = b.hi + Eigen::Vector3i::Constant(pad_ + reach);
+    const Eigen::Vector3i cell_lo =
+        ((lo - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels - Eigen::Vector3i::Constant(cap_cells);
+    const Eigen::Vector3i cell_hi =
+        ((hi - Eigen::Vector3i::Constant(pad_)).cwiseMax(0)) / kCellVoxels + Eigen::Vector3i::Constant(cap_cells);
+    rebuild_clearance(cell_lo, cell_hi);
+  }
   return stats;
 }
 

@@ -51,6 +51,17 @@ void MapKernel::rebuild_projection() {
     }
 }
 
+namespace {
+
+/// The squared voxel distance from which a clearance comes out capped: floor(4 sqrt(q)) >=
+/// cap_units once q >= ceil(cap_units / 4)^2.
+std::int32_t far2_for_cap(int cap_units) {
+  const int c = (cap_units + 3) / 4;
+  return c * c;
+}
+
+}  // namespace
+
 void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen::Vector3i& cell_hi_in) {
   const Eigen::Vector3i cell_lo = cell_lo_in.cwiseMax(0);
   const Eigen::Vector3i cell_hi = cell_hi_in.cwiseMin(cells_ - Eigen::Vector3i::Ones());
@@ -69,19 +80,29 @@ void MapKernel::rebuild_clearance(const Eigen::Vector3i& cell_lo_in, const Eigen
   };
   std::vector<std::uint8_t> set(static_cast<std::size_t>(n.prod()), 0);
   for (int z = 0; z < n.z(); ++z)
-    for (int y = 0; y < n.y(); ++y)
-      for (int x = 0; x < n.x(); ++x) {
-        const Eigen::Vector3i v = lo + Eigen::Vector3i(x, y, z) + Eigen::Vector3i::Constant(pad_);  // padded
-        const bool inside = (v.array() >= 0).all() && (v.array() < dims_.array()).all();
-        set[local(x, y, z)] = !inside || core_bit(v.x(), v.y(), v.z());
+    for (int y = 0; y < n.y(); ++y) {
+      // Padded indices.
+      const int vy = lo.y() + y + pad_, vz = lo.z() + z + pad_;
+      std::uint8_t* out = &set[local(0, y, z)];
+      if (vy < 0 || vz < 0 || vy >= dims_.y() || vz >= dims_.z()) {
+        std::fill(out, out + n.x(), std::uint8_t{1});
+        continue;
       }
+      for (int x = 0; x < n.x(); ++x) {
+        const int vx = lo.x() + x + pad_;
+        out[x] = (vx < 0 || vx >= dims_.x() || core_bit(vx, vy, vz)) ? 1 : 0;
+      }
+    }
   // Vertex distances: after dilate_to_vertices(), the transform at voxel v is the squared
   // distance from v's minimum corner to the nearest core voxel's box (edt.hpp). A cell's centre
   // is the minimum corner of its voxel (kCellVoxels / 2) along each axis.
   edt::dilate_to_vertices(set, n.x(), n.y(), n.z());
   std::vector<std::int32_t> d2;
-  edt::squared_distance_3d(set, n.x(), n.y(), n.z(), d2);
   constexpr int kHalf = kCellVoxels / 2;
+  // Only the cell centres are read: the transform is exact on their lattice.
+  edt::squared_distance_3d_sampled(set, n.x(), n.y(), n.z(), kCellVoxels * cell_lo.x() + kHalf - lo.x(),
+                                   kCellVoxels * cell_lo.y() + kHalf - lo.y(), kCellVoxels, d2,
+                                   far2_for_cap(cap_units_));
   for (int cz = cell_lo.z(); cz <= cell_hi.z(); ++cz)
     for (int cy = cell_lo.y(); cy <= cell_hi.y(); ++cy)
       for (int cx = cell_lo.x(); cx <= cell_hi.x(); ++cx) {

@@ -70,5 +70,31 @@ TEST(MapKernelUpdate, IncrementalEqualsRebuildAndReportsTheChangedBox) {
   expect_identical(incremental, fresh);
 }
 
+TEST(MapKernelUpdate, ScatteredChangesUpdateInSeparateRegionsAndEqualARebuild) {
+  // A grid wide enough for many change tiles (kChangeTileVoxels columns each): a mapper's update
+  // changes a few voxels here and there; each round changes a random number of scattered voxels
+  // (1 to 300: a few tiles, many tiles merged, or more than the merge's 64 boxes).
+  OccupancyGrid grid({-5.0, -4.0, 0.0}, 0.05, {330, 250, 30});
+  std::mt19937_64 rng(29);
+  auto random_voxel = [&](bool value) {
+    grid.set(static_cast<int>(test::uniform(rng, 0, 330)), static_cast<int>(test::uniform(rng, 0, 250)),
+             static_cast<int>(test::uniform(rng, 0, 30)), value);
+  };
+  for (int i = 0; i < 2000; ++i) random_voxel(true);
+  MapKernelSettings s;
+  s.safety_margin_m = 0.1;
+  s.distance_cap_m = 0.5;
+  MapKernel incremental(s, 4, 5, 5);
+  EXPECT_FALSE(incremental.set_map(grid).incremental);
+  for (const int changes : {1, 2, 5, 20, 80, 300}) {
+    for (int i = 0; i < changes; ++i) random_voxel(test::uniform(rng, 0, 1) < 0.5);
+    const MapUpdateStats st = incremental.set_map(grid);
+    EXPECT_TRUE(st.incremental);
+    MapKernel fresh(s, 4, 5, 5);
+    fresh.set_map(grid);
+    expect_identical(incremental, fresh);
+  }
+}
+
 }  // namespace
 }  // namespace porter::planner

@@ -300,7 +300,21 @@ class MapKernel {
   /// A cell's edge in clearance units, squared (the variance term's A^2).
   static constexpr float kCellUnits2 = 16.f * kCellVoxels * kCellVoxels;
   void allocate(const OccupancyGrid& grid);
-  bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats);
+  /// A grid index box of changed voxels (inclusive).
+  struct ChangeBox {
+    Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = Eigen::Vector3i::Constant(-1);
+    bool empty() const { return (hi.array() < lo.array()).any(); }
+  };
+  /// Edge of the xy tiles that changes are gathered in, grid voxels.
+  static constexpr int kChangeTileVoxels = 32;
+  /// Copies the grid into O, reports the changes in stats and, when `tiles` is given, one box per
+  /// kChangeTileVoxels^2 column tile (tile tx + ntx * ty) around that tile's changes.
+  bool copy_grid_rows(const OccupancyGrid& grid, MapUpdateStats& stats, std::vector<ChangeBox>* tiles = nullptr);
+  /// The non-empty tile boxes, merged where one region grown by `grow` voxels (and clipped to
+  /// two voxels beyond a grid of `dims`) is no larger than the two apart (at most 64 boxes; more
+  /// are merged into one).
+  static std::vector<ChangeBox> merge_change_boxes(const std::vector<ChangeBox>& tiles, int grow,
+                                                   const Eigen::Vector3i& dims);
   void rebuild_rows(int y0, int y1, int z0, int z1);
   void rebuild_projection();  ///< summed-area table and column bits
   void rebuild_clearance(const Eigen::Vector3i& cell_lo, const Eigen::Vector3i& cell_hi);
