@@ -147,8 +147,8 @@ int main(int argc, char** argv) {
     auto health = rt::HeartbeatHealth::ok;
     if (c.clouds_received == 0 || c.states_received == 0) health = rt::HeartbeatHealth::warn;
     if (c.dropped_no_state != no_state_seen) {
-      rt::log_warn("clouds dropped without a ROBOT_STATE covering them (base and arm) within " +
-                   ms(cfg.state_wait_s) + ": " + std::to_string(c.dropped_no_state) + " (ROBOT_STATEs without arm: " +
+      rt::log_warn("clouds dropped without a ROBOT_STATE covering them (base and arm) by " + ms(cfg.state_wait_s) +
+                   " (state time) after their last point, or with the queue full waiting for one: " + std::to_string(c.dropped_no_state) + " (ROBOT_STATEs without arm: " +
                    std::to_string(c.states_without_arm) + ")");
       no_state_seen = c.dropped_no_state;
       last_no_state_s = rt::mono_s();

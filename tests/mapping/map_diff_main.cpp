@@ -13,7 +13,7 @@
 //
 // With --inputs (the log scripts/replay plays: LIDAR_POINTS and ROBOT_STATE) the inputs go
 // through porter-mapper's node in the log's order, each cloud processed as soon as the state
-// covers it, no cloud dropped for time, a map after every cloud: the reference. Every map of A
+// covers it, with a queue that never overflows, a map after every cloud: the reference. Every map of A
 // and B is then checked against the reference map of the same utime, and the scans the
 // reference integrated are listed against the maps' utimes.
 // Exit codes: 0 done, 2 bad arguments or config, 3 unreadable log.
@@ -187,7 +187,6 @@ bool reference(const std::string& inputs, const pm::app::MapperConfig& cfg, cons
   lcm::LogFile log(inputs, "r");
   if (!log.good()) return false;
   pm::app::MapperConfig c = cfg;
-  c.state_wait_s = 1e9;  // time does not pass: a cloud waits for its state however long
   c.max_queued_clouds = 1 << 20;
   pm::app::MapperNode node(c, robot);
   porter::octomap_t msg;
