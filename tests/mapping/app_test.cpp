@@ -67,7 +67,7 @@ TEST(MapperConfig, ShippedConfigLoadsAndIsStrict) {
   expect_load_error(text + "\nsurprise: 1\n", "surprise");
   expect_load_error(replace(text, "  margin_m: 0.05\n", ""), "margin_m");
   expect_load_error(replace(text, "  margin_m: 0.05", "  margin_m: -0.05"), "margin_m");
-  expect_load_error(replace(text, "  max_clouds: 6", "  max_clouds: 0"), "max_clouds");
+  expect_load_error(replace(text, "  max_clouds: 12", "  max_clouds: 0"), "max_clouds");
   expect_load_error(replace(text, "  size_voxels: [400, 400, 64]", "  size_voxels: [400.5, 400, 64]"), "size_voxels");
   expect_load_error(replace(text, "  prob_hit: 0.7", "  prob_hit: 0.3"), "prob_hit");
   expect_load_error(replace(text, "publish_rate_hz: 2.0", "publish_rate_hz: abc"), "publish_rate_hz");
@@ -265,6 +265,7 @@ TEST(MapperNode, TheSameMessagesInAnyInterleavingAndTimingGiveTheSameMaps) {
   const Scene scene = load_scene(test::config_path("scenes/forest.yaml"));
   app::MapperConfig cfg = small_config();
   cfg.max_queued_clouds = 64;  // no queue drop: every cloud reaches the state rule
+  cfg.state_wait_s = 0.5;      // shorter than the arm samples' gap below
   const RobotModel robot = test::robot_with("long_bar");
   const double y = test::clear_lane(scene, 2.5, 0.4);
   test::SimDrive drive(robot, scene.obstacles,
