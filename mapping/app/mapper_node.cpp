@@ -25,7 +25,7 @@ void MapperNode::on_state(const porter::robot_state_t& msg) {
     states_.add_base(c.utime, c.base);
     // The arm sample is the newest ARM_STATE porter-state had: repeated until the next comes.
     if (c.has_arm) {
-      states_.add_arm(c.arm_utime, c.q_rad);
+      states_.add_arm(c.arm_utime, c.q_rad, c.utime);
     } else {
       ++counters_.states_without_arm;
     }
@@ -62,8 +62,15 @@ void MapperNode::on_cloud(const porter::point_cloud_t& msg, std::int64_t now_ns)
     q.start_us = q.cloud.utime + off_min / 1000;
     q.end_us = q.cloud.utime + off_max / 1000;
     if (static_cast<int>(queue_.size()) >= config_.max_queued_clouds) {
+      // The oldest waiting cloud goes: one the state covers was waiting for the worker, one it
+      // does not yet cover was waiting for its state.
+      const Queued& f = queue_.front();
+      if (states_.covers_by(f.start_us, f.end_us, f.end_us + wait_us()) == StateBuffer::Cover::yes) {
+        ++counters_.dropped_queue_full;
+      } else {
+        ++counters_.dropped_no_state;
+      }
       queue_.pop_front();
-      ++counters_.dropped_queue_full;
     }
     queue_.push_back(std::move(q));
   }
@@ -75,23 +82,21 @@ bool MapperNode::step(std::int64_t now_ns, std::int64_t wait_ns, StepResult& out
   StateBuffer states;
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    const auto wait_limit_ns = static_cast<std::int64_t>(config_.state_wait_s * 1e9);
     // Drops the clouds at the front that the state will not cover; true when the front one is
-    // covered now.
+    // covered. Decided on the states' own time (the state that covers a cloud must come before
+    // the states pass its last point by state.wait_s), never on the time messages arrive or are
+    // processed: the same messages in the same order give the same clouds integrated.
     const auto ready = [&] {
       while (!queue_.empty()) {
         const Queued& f = queue_.front();
-        if (states_.covers(f.start_us, f.end_us)) return true;
-        // Samples older than the first point were pruned (or the first sample came after it):
-        // waiting cannot help.
-        const bool never = states_.oldest_us() > f.start_us;
-        if (!never && now_ns - f.received_ns < wait_limit_ns) return false;
+        const StateBuffer::Cover c = states_.covers_by(f.start_us, f.end_us, f.end_us + wait_us());
+        if (c == StateBuffer::Cover::yes) return true;
+        if (c == StateBuffer::Cover::not_yet) return false;
         queue_.pop_front();
         ++counters_.dropped_no_state;
       }
       return false;
     };
-    // A cloud whose state wait expires during this wait is dropped by the next step().
     if (!ready() && wait_ns > 0) cv_.wait_for(lock, std::chrono::nanoseconds(wait_ns));
     if (!ready()) return false;
     q = std::move(queue_.front());

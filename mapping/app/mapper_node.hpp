@@ -7,16 +7,22 @@
 //                     (base and arm samples at or before its first point and at or after its
 //                     last), and says when a map is due.
 //
-// A cloud the state does not cover within state_wait_s of its arrival, or can no longer cover
-// (its first point is older than the history kept), is dropped and counted
-// (dropped_no_state), never integrated with a held state: the self-filter needs the arm where
-// it was at each point's time, and a cloud filtered with a stale arm leaves the robot's own
-// points in the map as obstacles in front of it.
+// A cloud is integrated when the states that came before the base track passed its last point
+// by state_wait_s cover it (StateBuffer::covers_by: the arm sample that covers its last point
+// must come with a ROBOT_STATE whose utime is at most state_wait_s after that point). One they
+// do not cover, or can no longer cover (its first point is older than the history kept, or
+// than the first sample), is dropped and counted (dropped_no_state), never integrated with a
+// held state: the self-filter needs the arm where it was at each point's time, and a cloud
+// filtered with a stale arm leaves the robot's own points in the map as obstacles in front of
+// it. The rule is on the messages' own stamps, not on when they arrive or when the worker gets
+// to them: the same clouds and states give the same map whatever their interleaving and the
+// worker's delays (as long as no queue overflows and the history holds the samples).
 //
 // No cloud is dropped silently: a cloud that arrives while another is being processed or
 // waits is counted (arrived_while_busy); when the queue (max_queued_clouds) is full the oldest
-// waiting cloud is dropped and counted (dropped_queue_full); gaps in scan_id are counted
-// (lost_upstream); malformed messages are counted (rejected) with the last reason.
+// waiting cloud is dropped and counted (dropped_queue_full when the state covered it, else
+// dropped_no_state: with no state coming, the queue is what bounds the wait); gaps in scan_id
+// are counted (lost_upstream); malformed messages are counted (rejected) with the last reason.
 //
 // Thread-safety: on_state/on_cloud/counters from any thread; step()/make_map() from one
 // worker thread.
@@ -82,6 +88,8 @@ class MapperNode {
     std::int64_t start_us = 0;  ///< first point's time
     std::int64_t end_us = 0;    ///< last point's time
   };
+  std::int64_t wait_us() const { return static_cast<std::int64_t>(config_.state_wait_s * 1e6); }
+
   MapperConfig config_;
   Mapper mapper_;
   OctomapBinaryWriter writer_;  ///< keeps the map's stream between maps (worker thread only)

@@ -17,7 +17,7 @@ struct MapperConfig {
   std::string cloud_frame_id = "lidar";  ///< clouds in another frame are rejected
   std::string map_frame_id = "world";
   double publish_rate_hz = 2.0;       ///< MAP_OCTOMAP at most this often
-  double state_wait_s = 0.05;         ///< wait this long for ROBOT_STATE to cover a scan
+  double state_wait_s = 0.05;         ///< the covering ROBOT_STATE may come this long (state time) after a scan's end
   double state_history_s = 2.0;
   int max_queued_clouds = 1;          ///< clouds waiting while one is processed
   double status_log_period_s = 10.0;

@@ -85,9 +85,19 @@ int main(int argc, char** argv) {
                (self ? "margin " + std::to_string(p.self.margin_m) + " m, " + std::to_string(self->cells()) + " cells" : std::string("off")) +
                "; maps at " + std::to_string(cfg.publish_rate_hz) + " Hz; ready in " + ms(rt::mono_s() - t_load));
 
-  bus.subscribe(porter::channels::kRobotState, [&](const porter::robot_state_t& m) { node.on_state(m); }, 200);
+  // LCM drops a complete message, uncounted, when its subscription already holds this many
+  // undelivered ones; the heartbeat could only count such a cloud as lost upstream, and which
+  // clouds it hits depends on when this thread gets the CPU. The node's queue
+  // (queue.max_clouds) is where clouds are dropped, and counted: these queues hold every burst
+  // seen (porter-sim catching up on a loaded machine sends up to 26 clouds within 0.3 s and
+  // seconds of states at once; the LCM queue of 4 clouds lost 3 clouds of such a burst in a
+  // replay, docs/stack.md "Replay"). A cloud is ~0.4 MB: 100 of them ~40 MB at most.
+  constexpr int kStateReceiveQueue = 5000;
+  constexpr int kCloudReceiveQueue = 100;
+  bus.subscribe(porter::channels::kRobotState, [&](const porter::robot_state_t& m) { node.on_state(m); },
+                kStateReceiveQueue);
   bus.subscribe(porter::channels::kLidarPoints,
-                [&](const porter::point_cloud_t& m) { node.on_cloud(m, rt::mono_ns()); }, 4);
+                [&](const porter::point_cloud_t& m) { node.on_cloud(m, rt::mono_ns()); }, kCloudReceiveQueue);
 
   std::atomic<std::uint64_t> publish_failures{0};
   std::mutex timing_mutex;
@@ -125,7 +135,7 @@ int main(int argc, char** argv) {
   while (!rt::stop_requested()) {
     pollfd fds[2] = {{bus.fileno(), POLLIN, 0}, {rt::stop_fd(), POLLIN, 0}};
     ::poll(fds, 2, 100);
-    if (fds[0].revents & POLLIN) bus.handle_timeout(0);
+    if (fds[0].revents & POLLIN) bus.handle_pending();  // every message waiting, then the status
     const pm::app::MapperCounters c = node.counters();
     std::string status = "clouds " + std::to_string(c.clouds_processed) + "/" + std::to_string(c.clouds_received) +
                          ", arrived while busy " + std::to_string(c.arrived_while_busy) + ", dropped " +
@@ -137,8 +147,8 @@ int main(int argc, char** argv) {
     auto health = rt::HeartbeatHealth::ok;
     if (c.clouds_received == 0 || c.states_received == 0) health = rt::HeartbeatHealth::warn;
     if (c.dropped_no_state != no_state_seen) {
-      rt::log_warn("clouds dropped without a ROBOT_STATE covering them (base and arm) within " +
-                   ms(cfg.state_wait_s) + ": " + std::to_string(c.dropped_no_state) + " (ROBOT_STATEs without arm: " +
+      rt::log_warn("clouds dropped without a ROBOT_STATE covering them (base and arm) by " + ms(cfg.state_wait_s) +
+                   " (state time) after their last point, or with the queue full waiting for one: " + std::to_string(c.dropped_no_state) + " (ROBOT_STATEs without arm: " +
                    std::to_string(c.states_without_arm) + ")");
       no_state_seen = c.dropped_no_state;
       last_no_state_s = rt::mono_s();

@@ -72,9 +72,9 @@ void StateBuffer::add_base(std::int64_t t_us, const BasePose& base) {
   while (base_.size() > 2 && base_.front().t_us < t_us - keep_us_) base_.pop_front();
 }
 
-bool StateBuffer::add_arm(std::int64_t t_us, const JointVector& q_rad) {
+bool StateBuffer::add_arm(std::int64_t t_us, const JointVector& q_rad, std::int64_t arrived_us) {
   if (!arm_.empty() && t_us <= arm_.back().t_us) return false;
-  arm_.push_back({t_us, q_rad});
+  arm_.push_back({t_us, q_rad, arrived_us});
   while (arm_.size() > 2 && arm_.front().t_us < t_us - keep_us_) arm_.pop_front();
   return true;
 }
@@ -92,6 +92,21 @@ bool StateBuffer::covers(std::int64_t t0_us, std::int64_t t1_us) const {
   if (base_.empty() || arm_.empty()) return false;
   return base_.front().t_us <= t0_us && arm_.front().t_us <= t0_us && base_.back().t_us >= t1_us &&
          arm_.back().t_us >= t1_us;
+}
+
+StateBuffer::Cover StateBuffer::covers_by(std::int64_t t0_us, std::int64_t t1_us, std::int64_t deadline_us) const {
+  const bool passed = !base_.empty() && base_.back().t_us > deadline_us;
+  if (base_.empty() || arm_.empty()) return passed ? Cover::never : Cover::not_yet;
+  if (base_.front().t_us > t0_us || arm_.front().t_us > t0_us) return Cover::never;
+  const auto b = std::lower_bound(base_.begin(), base_.end(), t1_us,
+                                  [](const BaseSample& s, std::int64_t t) { return s.t_us < t; });
+  const auto a = std::lower_bound(arm_.begin(), arm_.end(), t1_us,
+                                  [](const ArmSample& s, std::int64_t t) { return s.t_us < t; });
+  // The base samples come in order: the first one at or after t1 decides for good.
+  if (b != base_.end() && b->t_us > deadline_us) return Cover::never;
+  if (a != arm_.end() && a->arrived_us > deadline_us) return Cover::never;
+  if (b != base_.end() && a != arm_.end()) return Cover::yes;
+  return passed ? Cover::never : Cover::not_yet;
 }
 
 std::int64_t StateBuffer::oldest_us() const {

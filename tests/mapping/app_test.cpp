@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <map>
+#include <random>
 #include <fstream>
 #include <sstream>
 
@@ -65,7 +67,7 @@ TEST(MapperConfig, ShippedConfigLoadsAndIsStrict) {
   expect_load_error(text + "\nsurprise: 1\n", "surprise");
   expect_load_error(replace(text, "  margin_m: 0.05\n", ""), "margin_m");
   expect_load_error(replace(text, "  margin_m: 0.05", "  margin_m: -0.05"), "margin_m");
-  expect_load_error(replace(text, "  max_clouds: 6", "  max_clouds: 0"), "max_clouds");
+  expect_load_error(replace(text, "  max_clouds: 12", "  max_clouds: 0"), "max_clouds");
   expect_load_error(replace(text, "  size_voxels: [400, 400, 64]", "  size_voxels: [400.5, 400, 64]"), "size_voxels");
   expect_load_error(replace(text, "  prob_hit: 0.7", "  prob_hit: 0.3"), "prob_hit");
   expect_load_error(replace(text, "publish_rate_hz: 2.0", "publish_rate_hz: abc"), "publish_rate_hz");
@@ -131,31 +133,52 @@ TEST(MapperNode, CountsCloudsArrivingWhileBusyAndWaitsForTheState) {
   app::MapperCounters k = node.counters();
   EXPECT_EQ(k.clouds_received, 3u);
   EXPECT_EQ(k.arrived_while_busy, 2u);
-  EXPECT_EQ(k.dropped_queue_full, 2u);
+  // The clouds the full queue pushed out were still waiting for their state.
+  EXPECT_EQ(k.dropped_queue_full, 0u);
+  EXPECT_EQ(k.dropped_no_state, 2u);
   EXPECT_EQ(k.lost_upstream, 2u);
   node.on_state(state_msg(2'100'000, test::config_at(0, 0, 0)));
+  // Covered, waiting for the worker: pushed out by the next cloud, a queue drop.
+  node.on_cloud(cloud_msg(c, 6), 3'000'000);
+  k = node.counters();
+  EXPECT_EQ(k.dropped_queue_full, 1u);
+  EXPECT_EQ(k.dropped_no_state, 2u);
   ASSERT_TRUE(node.step(3'000'001, 0, r));
-  EXPECT_EQ(r.scan_id, 5);
+  EXPECT_EQ(r.scan_id, 6);
   EXPECT_TRUE(r.map_due);
   EXPECT_EQ(r.report.filter.state_outside, 0u);
   EXPECT_EQ(r.report.integrate.hits, 100u);
   EXPECT_FALSE(node.step(3'000'002, 0, r));
 
-  // A cloud whose state never comes is dropped once state.wait_s has passed (and counted), not
-  // filtered with a held state.
+  // A cloud whose arm sample never comes is dropped (and counted), not filtered with a held
+  // state, once the states pass its last point (5.099 s) by state.wait_s: on the states' time,
+  // however long the cloud has waited on the wall clock.
   c.utime = 5'000'000;
-  node.on_cloud(cloud_msg(c, 6), 10'000'000);
-  EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9) - 1, 0, r));
-  EXPECT_EQ(node.counters().dropped_no_state, 0u);
-  EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e9), 0, r));
-  EXPECT_EQ(node.counters().dropped_no_state, 1u);
+  node.on_cloud(cloud_msg(c, 7), 10'000'000);
+  EXPECT_FALSE(node.step(10'000'000 + static_cast<std::int64_t>(10 * cfg.state_wait_s * 1e9), 0, r));
+  EXPECT_EQ(node.counters().dropped_no_state, 2u);
+  const auto base_only = [](std::int64_t utime) {
+    porter::robot_state_t m = state_msg(utime, test::config_at(0, 0, 0));
+    m.num_joints = 0;
+    m.q_rad.clear();
+    m.qd_radps.clear();
+    return m;
+  };
+  const std::int64_t deadline_us = 5'099'000 + static_cast<std::int64_t>(cfg.state_wait_s * 1e6);
+  node.on_state(base_only(5'200'000));
+  node.on_state(base_only(deadline_us));
+  EXPECT_FALSE(node.step(20'000'000'000, 0, r));
+  EXPECT_EQ(node.counters().dropped_no_state, 2u);
+  node.on_state(base_only(deadline_us + 1));
+  EXPECT_FALSE(node.step(20'000'000'001, 0, r));
+  EXPECT_EQ(node.counters().dropped_no_state, 3u);
   EXPECT_EQ(node.counters().clouds_processed, 1u);
 
   // Malformed input is counted, not processed.
-  porter::point_cloud_t bad = cloud_msg(c, 7);
+  porter::point_cloud_t bad = cloud_msg(c, 8);
   bad.frame_id = "base";
   node.on_cloud(bad, 11'000'000'000);
-  bad = cloud_msg(c, 8);
+  bad = cloud_msg(c, 9);
   bad.time_offset_ns[3] = -5;
   node.on_cloud(bad, 11'000'000'001);
   porter::robot_state_t bad_state = state_msg(6'000'000, test::config_at(0, 0, 0));
@@ -226,6 +249,154 @@ TEST(MapperNode, PosesTheArmOnArmUtimeAndNeedsBothBaseAndArmToCoverACloud) {
   EXPECT_EQ(k.clouds_processed, 2u);
   EXPECT_EQ(k.dropped_no_state, 1u);
   EXPECT_EQ(k.states_without_arm, 31u);
+}
+
+// One delivery of a drive's messages to a node: what it integrated and the map stream after
+// every integrated cloud (keyed by the map's utime, the cloud's last point).
+struct Delivery {
+  std::map<std::int64_t, std::vector<std::uint8_t>> maps;
+  app::MapperCounters counters;
+};
+
+// The same clouds and states reach porter-mapper's node in different interleavings and with
+// different delays, as a replay of one log on a busy machine gives them: the node must
+// integrate the same clouds, from the same states, into the same maps.
+TEST(MapperNode, TheSameMessagesInAnyInterleavingAndTimingGiveTheSameMaps) {
+  const Scene scene = load_scene(test::config_path("scenes/forest.yaml"));
+  app::MapperConfig cfg = small_config();
+  cfg.max_queued_clouds = 64;  // no queue drop: every cloud reaches the state rule
+  cfg.state_wait_s = 0.5;      // shorter than the arm samples' gap below
+  const RobotModel robot = test::robot_with("long_bar");
+  const double y = test::clear_lane(scene, 2.5, 0.4);
+  test::SimDrive drive(robot, scene.obstacles,
+                       {Waypoint{0.0, test::config_at(0.0, y, 0.0)}, Waypoint{2.0, test::config_at(1.6, y, 0.3)}},
+                       cfg.mapper.T_B_S);
+  constexpr int kClouds = 20;
+  std::vector<porter::point_cloud_t> clouds;
+  std::vector<std::pair<std::int64_t, RobotConfiguration>> samples;
+  StateBuffer unused;
+  for (int k = 0; k < kClouds; ++k) clouds.push_back(cloud_msg(drive.next(unused, &samples).cloud, k));
+  // ROBOT_STATE at 100 Hz; from 0.8 s to 1.5 s porter-state has no new arm sample and repeats
+  // the one of 0.8 s: the clouds that end in the first 0.2 s of that gap are not covered before
+  // the states pass them by state.wait_s (0.5 s) and must be dropped, whatever the timing.
+  const std::int64_t freeze0 = test::SimDrive::kEpochUs + 800'000, freeze1 = test::SimDrive::kEpochUs + 1'500'000;
+  std::vector<porter::robot_state_t> states;
+  RobotConfiguration held;
+  for (const auto& [t, c] : samples) {
+    porter::robot_state_t m = state_msg(t, c);
+    if (t <= freeze0) held = c;
+    if (t > freeze0 && t < freeze1) {
+      m.arm_utime = freeze0;
+      m.q_rad.assign(held.q_rad.data(), held.q_rad.data() + kNumArmJoints);
+    } else {
+      m.arm_utime = t;
+    }
+    states.push_back(m);
+  }
+  // A message with the (wall-clock) time it is delivered at, in ns.
+  struct Event {
+    std::int64_t at_ns;
+    int cloud;  // index into clouds, or -1 - index into states
+  };
+  const auto deliver = [&](std::vector<Event> events, bool step_each) {
+    std::stable_sort(events.begin(), events.end(), [](const Event& a, const Event& b) { return a.at_ns < b.at_ns; });
+    app::MapperNode node(cfg, robot);
+    Delivery d;
+    porter::octomap_t map;
+    app::StepResult r;
+    const auto drain = [&](std::int64_t now_ns) {
+      while (node.step(now_ns, 0, r)) {
+        node.make_map(map);
+        d.maps[map.utime] = map.data;
+      }
+    };
+    for (const Event& e : events) {
+      if (e.cloud >= 0) {
+        node.on_cloud(clouds[static_cast<std::size_t>(e.cloud)], e.at_ns);
+      } else {
+        node.on_state(states[static_cast<std::size_t>(-1 - e.cloud)]);
+      }
+      if (step_each) drain(e.at_ns);
+    }
+    drain(events.back().at_ns + 60'000'000'000);
+    d.counters = node.counters();
+    return d;
+  };
+  const auto utime_ns = [](std::int64_t utime_us) { return (utime_us - test::SimDrive::kEpochUs) * 1000; };
+  const auto end_us = [&](int k) {
+    const porter::point_cloud_t& c = clouds[static_cast<std::size_t>(k)];
+    return c.utime + *std::max_element(c.time_offset_ns.begin(), c.time_offset_ns.end()) / 1000;
+  };
+
+  // Live order: each cloud 5 ms after its last point, each state 2 ms after its time.
+  std::vector<Event> live;
+  for (int k = 0; k < kClouds; ++k) live.push_back({utime_ns(end_us(k)) + 5'000'000, k});
+  for (std::size_t i = 0; i < states.size(); ++i) {
+    live.push_back({utime_ns(states[i].utime) + 2'000'000, -1 - static_cast<int>(i)});
+  }
+  const Delivery reference = deliver(live, true);
+  // Integrated: the clouds that begin at or after the first state and do not end in the first
+  // state.wait_s (0.5 s) before the arm track resumes at 1.5 s.
+  std::uint64_t expected = 0, in_gap = 0;
+  for (int k = 0; k < kClouds; ++k) {
+    const porter::point_cloud_t& c = clouds[static_cast<std::size_t>(k)];
+    const std::int64_t start = c.utime + *std::min_element(c.time_offset_ns.begin(), c.time_offset_ns.end()) / 1000;
+    const bool gap = end_us(k) >= freeze0 && end_us(k) < freeze1 - 500'000;
+    const bool integrated = start >= states.front().utime && !gap;
+    in_gap += gap;
+    expected += integrated;
+    EXPECT_EQ(reference.maps.count(end_us(k)), integrated ? 1u : 0u) << "cloud " << k;
+  }
+  EXPECT_EQ(in_gap, 2u);  // the clouds ending in 0.8..1.0 s
+  EXPECT_EQ(reference.counters.clouds_processed, expected);
+  EXPECT_EQ(reference.counters.dropped_no_state, kClouds - expected);
+  EXPECT_EQ(reference.maps.size(), expected);
+
+  std::vector<std::pair<std::string, std::vector<Event>>> variants;
+  // The states 2 s late (longer than state.wait_s on the wall clock), every cloud waiting.
+  std::vector<Event> late = live;
+  for (Event& e : late) e.at_ns += e.cloud < 0 ? 2'000'000'000 : 0;
+  variants.emplace_back("states 2 s late", late);
+  // The states stalled for 1.2 s from 0.5 s on, then delivered at once.
+  std::vector<Event> stall = live;
+  for (Event& e : stall) {
+    if (e.cloud < 0 && e.at_ns >= 500'000'000 && e.at_ns < 1'700'000'000) e.at_ns = 1'700'000'000;
+  }
+  variants.emplace_back("states stalled 1.2 s", stall);
+  // Every cloud after all states (a cloud arriving after the states that pass its deadline).
+  std::vector<Event> clouds_last = live;
+  for (Event& e : clouds_last) e.at_ns += e.cloud >= 0 ? 10'000'000'000 : 0;
+  variants.emplace_back("clouds after every state", clouds_last);
+  // Random delays of up to 1.5 s per message, seeded.
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<std::int64_t> delay(0, 1'500'000'000);
+  for (int v = 0; v < 3; ++v) {
+    std::vector<Event> shuffled = live;
+    for (Event& e : shuffled) e.at_ns += delay(rng);
+    // Messages of one kind keep their order (one sender, one socket).
+    std::vector<std::int64_t> c_at, s_at;
+    for (const Event& e : shuffled) (e.cloud >= 0 ? c_at : s_at).push_back(e.at_ns);
+    std::sort(c_at.begin(), c_at.end());
+    std::sort(s_at.begin(), s_at.end());
+    std::size_t ci = 0, si = 0;
+    for (Event& e : shuffled) e.at_ns = e.cloud >= 0 ? c_at[ci++] : s_at[si++];
+    variants.emplace_back("random delays " + std::to_string(v), shuffled);
+  }
+  for (const auto& [name, events] : variants) {
+    for (const bool step_each : {true, false}) {  // the worker right away, or after everything
+      const Delivery d = deliver(events, step_each);
+      const std::string what = name + (step_each ? ", worker right away" : ", worker late");
+      EXPECT_EQ(d.counters.clouds_processed, reference.counters.clouds_processed) << what;
+      EXPECT_EQ(d.counters.dropped_no_state, reference.counters.dropped_no_state) << what;
+      EXPECT_EQ(d.counters.dropped_queue_full, 0u) << what;
+      EXPECT_EQ(d.maps.size(), reference.maps.size()) << what;
+      for (const auto& [utime, bytes] : reference.maps) {
+        const auto it = d.maps.find(utime);
+        ASSERT_NE(it, d.maps.end()) << what << ": no map of the scan ending at " << utime;
+        EXPECT_TRUE(it->second == bytes) << what << ": the map of the scan ending at " << utime << " differs";
+      }
+    }
+  }
 }
 
 /// Runs every event of an LCM log through a fresh node on an in-process bus; the final map.

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -127,6 +129,75 @@ TEST(MapperProcess, CloudsInMapsAndHeartbeatOut) {
     }
   EXPECT_GE(face, 3);
   std::printf("%zu maps; heartbeat: %s\n", maps.size(), heartbeat.c_str());
+  std::remove(log_path.c_str());
+}
+
+// A burst of clouds, as a replayed log delivers porter-sim's catch-up (22 clouds within 50 ms):
+// every cloud reaches the node (LCM discards, uncounted, a message whose subscription queue is
+// full), and each is processed or dropped and counted there.
+TEST(MapperProcess, ABurstOfCloudsReachesTheNodeWhole) {
+  const std::string url = porter::test::private_lcm_url() + "&recv_buf_size=4194304";
+  std::ifstream in(test::config_path("mapping/porter_mapper.yaml"));
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string cfg = text.str();
+  cfg.replace(cfg.find("lcm_url: \"\""), 11, "lcm_url: \"" + url + "\"");
+  cfg.replace(cfg.find("status_log_period_s: 10.0"), 25, "status_log_period_s: 1.0");
+  const std::string cfg_path = test::config_path("mapping/.process_burst_test_" + std::to_string(::getpid()) + ".yaml");
+  { std::ofstream(cfg_path) << cfg; }
+  const std::string log_path = ::testing::TempDir() + "porter_mapper_burst_" + std::to_string(::getpid()) + ".log";
+
+  porter::LcmBus bus(url);
+  ASSERT_TRUE(bus.good());
+  std::string heartbeat;
+  bus.subscribe(porter::channels::kHeartbeat, [&](const porter::process_heartbeat_t& h) {
+    if (h.process == "porter-mapper") heartbeat = h.status;
+  });
+  livox::test::ChildProcess mapper(PORTER_MAPPER_BIN, {"--config", cfg_path}, log_path);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (heartbeat.empty() && std::chrono::steady_clock::now() < deadline && mapper.running()) bus.handle_timeout(100);
+  std::remove(cfg_path.c_str());
+  ASSERT_FALSE(heartbeat.empty()) << mapper.log();
+
+  // Small clouds (1,000 points, ~22 kB: the burst stays far below the socket's receive buffer,
+  // so only a queue inside the process can lose one), all sent while the mapper is stopped
+  // (SIGSTOP, as when it does not get the CPU on a loaded machine): it finds them all at once.
+  constexpr int kClouds = 40;
+  ASSERT_EQ(::kill(mapper.pid(), SIGSTOP), 0);
+  const std::int64_t t0 = test::SimDrive::kEpochUs;
+  for (int k = 0; k < kClouds; ++k) {
+    porter::point_cloud_t m{};
+    m.utime = t0 + k * 100'000;
+    m.frame_id = "lidar";
+    m.scan_id = k;
+    m.num_points = 1000;
+    for (int i = 0; i < m.num_points; ++i) {
+      const double a = 2.0 * M_PI * i / m.num_points;
+      m.x_m.push_back(static_cast<float>(3.0 * std::cos(a)));
+      m.y_m.push_back(static_cast<float>(3.0 * std::sin(a)));
+      m.z_m.push_back(0.5f);
+      m.time_offset_ns.push_back(i * 90'000);
+    }
+    m.intensity.assign(1000, 0.0f);
+    m.line.assign(1000, 0);
+    m.tag.assign(1000, 0);
+    EXPECT_TRUE(bus.publish(porter::channels::kLidarPoints, m));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  ASSERT_EQ(::kill(mapper.pid(), SIGCONT), 0);
+  int processed = 0, received = 0, busy = 0, dropped = 0, lost = 0;
+  const auto counts = [&] {
+    return std::sscanf(heartbeat.c_str(), "clouds %d/%d, arrived while busy %d, dropped %d, lost upstream %d", &processed,
+                       &received, &busy, &dropped, &lost) == 5;
+  };
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < end && !(counts() && received == kClouds)) bus.handle_timeout(100);
+  const int status = mapper.stop();
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << mapper.log();
+  ASSERT_TRUE(counts()) << heartbeat;
+  EXPECT_EQ(received, kClouds) << heartbeat << "\n" << mapper.log();
+  EXPECT_EQ(lost, 0) << heartbeat;
+  std::printf("heartbeat: %s\n", heartbeat.c_str());
   std::remove(log_path.c_str());
 }
 

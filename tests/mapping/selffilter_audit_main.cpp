@@ -14,7 +14,8 @@
 //     porter-mapper kept it before: the joints on ROBOT_STATE.utime, a state without joints as
 //     q = 0, a cloud waiting 0.05 s for its state and then filtered with what was there),
 //     "arm_utime, covered" (as porter-mapper does now: joints on arm_utime, a cloud integrated
-//     only when the states received within state.wait_s cover it, else dropped) and "truth"
+//     only when the states up to state.wait_s (state time) after its last point cover it, else
+//     dropped) and "truth"
 //     (SIM_TRUTH; then SIM_TRUTH shifted to the best fit): self hits (returns more than
 //     --ground-z above the ground), removed, kept, and the occupied voxels left in a map built
 //     from the filtered clouds (each is a phantom: the scene holds nothing).
@@ -337,15 +338,16 @@ int main(int argc, char** argv) {
   });
   // Now: porter-mapper's own conversion and rule.
   run("arm_utime, covered (now)", [&](const Cloud& c, pm::StateBuffer& buf) {
+    const std::int64_t deadline_us = c.end_us + static_cast<std::int64_t>(cfg.state_wait_s * 1e6);
     for (const Received& s : states) {
-      if (s.rx_us > c.rx_us + static_cast<std::int64_t>(cfg.state_wait_s * 1e6)) break;
       pm::app::StateSample k;
       std::string why;
       if (!pm::app::to_state_sample(s.msg, k, why)) continue;
       buf.add_base(k.utime, k.base);
-      if (k.has_arm) buf.add_arm(k.arm_utime, k.q_rad);
+      if (k.has_arm) buf.add_arm(k.arm_utime, k.q_rad, k.utime);
+      if (k.utime > deadline_us) break;  // the states have passed the cloud by state.wait_s
     }
-    return buf.covers(c.start_us, c.end_us);
+    return buf.covers_by(c.start_us, c.end_us, deadline_us) == pm::StateBuffer::Cover::yes;
   });
   auto truth_run = [&](const char* name, std::int64_t shift_us, bool integrate = true) {
     return run(name, [&, shift_us](const Cloud& c, pm::StateBuffer& buf) {

@@ -36,7 +36,10 @@ class StateBuffer {
   void add_base(std::int64_t t_us, const BasePose& base);
   /// Adds an arm sample stamped with its own time. A stamp not after the newest arm sample is
   /// ignored (porter-state repeats an arm sample until the next arrives): returns false.
-  bool add_arm(std::int64_t t_us, const JointVector& q_rad);
+  /// `arrived_us` is the base time (ROBOT_STATE.utime) of the state that brought the sample; the
+  /// two-argument form takes the sample's own time.
+  bool add_arm(std::int64_t t_us, const JointVector& q_rad, std::int64_t arrived_us);
+  bool add_arm(std::int64_t t_us, const JointVector& q_rad) { return add_arm(t_us, q_rad, t_us); }
 
   /// Where at() found the time (the worse of the two tracks: empty, then before/after, then
   /// inside).
@@ -47,6 +50,20 @@ class StateBuffer {
   /// True when both tracks hold samples at or before t0_us and at or after t1_us: every time
   /// in [t0_us, t1_us] is interpolated, nothing held.
   bool covers(std::int64_t t0_us, std::int64_t t1_us) const;
+
+  /// Whether the samples that came with states up to base time `deadline_us` cover
+  /// [t0_us, t1_us] (both tracks hold samples at or before t0_us; the first base sample at or
+  /// after t1_us is not later than the deadline; the first arm sample at or after t1_us came
+  /// with a state not later than the deadline):
+  ///   yes      covered;
+  ///   never    cannot be: a track begins after t0_us, or the states have passed the deadline
+  ///            (or brought the sample that would cover t1_us only after it);
+  ///   not_yet  the base track has not reached the deadline yet.
+  /// The answer depends on the states received (in their order) only, not on when it is asked:
+  /// not_yet can turn into yes or never as states come, and yes or never stays so (as long as
+  /// the samples needed are still kept: keep_s).
+  enum class Cover { yes, not_yet, never };
+  Cover covers_by(std::int64_t t0_us, std::int64_t t1_us, std::int64_t deadline_us) const;
 
   bool empty() const { return base_.empty() && arm_.empty(); }
   std::size_t base_size() const { return base_.size(); }
@@ -70,6 +87,7 @@ class StateBuffer {
   struct ArmSample {
     std::int64_t t_us;
     JointVector q_rad;
+    std::int64_t arrived_us;  ///< base time of the state that brought it
   };
   std::int64_t keep_us_;
   std::deque<BaseSample> base_;
