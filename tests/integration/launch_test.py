@@ -112,4 +112,25 @@ processes:
                            capture_output=True, text=True)
         if r.returncode != 2 or "not a variable of the profile" not in r.stderr:
             fail(f"shipped profile {name}: exit {r.returncode}, {r.stderr}")
+# The receive-buffer check: a URL asking for more than net.core.rmem_max allows is warned about
+# (subscribers of LIDAR_POINTS would lose clouds); one within it, or asking for nothing, is not.
+import importlib.machinery  # noqa: E402
+import importlib.util  # noqa: E402
+loader = importlib.machinery.SourceFileLoader("porter_launch", LAUNCH)
+launch = importlib.util.module_from_spec(importlib.util.spec_from_loader("porter_launch", loader))
+loader.exec_module(launch)
+with tempfile.TemporaryDirectory() as tmp:
+    rmem = os.path.join(tmp, "rmem_max")
+    with open(rmem, "w") as f:
+        f.write("212992\n")
+    url = "udpm://239.255.76.67:7667?ttl=0&recv_buf_size=4194304"
+    w = launch.receive_buffer_warning(url, rmem)
+    if "212992" not in w or "sysctl -w net.core.rmem_max=4194304" not in w:
+        fail("no warning for a receive buffer the kernel caps: " + repr(w))
+    with open(rmem, "w") as f:
+        f.write("4194304\n")
+    if launch.receive_buffer_warning(url, rmem):
+        fail("warned although the kernel grants the buffer")
+    if launch.receive_buffer_warning("udpm://239.255.76.67:7667?ttl=0", os.path.join(tmp, "none")):
+        fail("warned for a URL that asks for no buffer")
 print("OK")
