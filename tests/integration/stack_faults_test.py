@@ -27,7 +27,7 @@ Times of events the test causes (kill, e-stop) are compared with the receive tim
 ("rx", wall clock): porter-sim's own stamps fall behind the wall clock when it runs slower than
 real time on a loaded machine.
 
-usage: stack_faults_test.py ROOT BUILD CASE [--keep DIR]
+usage: stack_faults_test.py ROOT BUILD CASE [--keep DIR [--record]]
 """
 import argparse
 import json
@@ -83,7 +83,7 @@ class Case:
         self.tmp = tempfile.TemporaryDirectory()
         self.run_dir = a.keep or os.path.join(self.tmp.name, "run")
         self.stack = SimStack(a.root, a.build, "empty", "t_bar", self.run_dir, no_restart=no_restart,
-                              sensor_raise_m=sensor_raise_m)
+                              sensor_raise_m=sensor_raise_m, record=a.record)
         self.watch_path = os.path.join(self.run_dir, "watch.jsonl")
 
     def __enter__(self):
@@ -265,6 +265,7 @@ parser.add_argument("root")
 parser.add_argument("build")
 parser.add_argument("case", choices=["obstacle", "kill_tracker", "kill_planner", "estop"])
 parser.add_argument("--keep")
+parser.add_argument("--record", action="store_true", help="record the run (run.lcmlog in the run folder; with --keep)")
 args = parser.parse_args()
 {"obstacle": case_obstacle, "kill_tracker": case_kill_tracker, "kill_planner": case_kill_planner,
  "estop": case_estop}[args.case](args)
