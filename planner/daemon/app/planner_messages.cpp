@@ -124,6 +124,16 @@ TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id,
               std::to_string(params.max_bytes);
     return c;
   }
+  if (!msg.binary) {
+    // OctoMap's full-format reader trusts the stream as its binary reader does (below);
+    // porter-mapper and porter-scene-map publish the binary format only.
+    c.error = "MAP_OCTOMAP binary = false (full format) is not accepted; send OctoMap's binary format";
+    return c;
+  }
+  if (std::string why = octree_binary_problem(msg.data.data(), msg.data.size()); !why.empty()) {
+    c.error = "MAP_OCTOMAP data: " + why;
+    return c;
+  }
   std::istringstream stream(std::string(reinterpret_cast<const char*>(msg.data.data()), msg.data.size()));
   std::shared_ptr<octomap::OcTree> tree;
   if (msg.binary) {
@@ -144,6 +154,32 @@ TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id,
   }
   c.tree = tree;
   return c;
+}
+
+std::string octree_binary_problem(const std::uint8_t* data, std::size_t size) {
+  // Each inner node is two bytes of child codes, 2 bits per child (children 1-4, then 5-8):
+  // 00 none, 01 occupied leaf, 10 free leaf, 11 inner node whose own two bytes follow, depth
+  // first. The walk keeps the number of inner children still to read per depth.
+  std::vector<int> pending{1};  // the root
+  std::size_t pos = 0;
+  while (!pending.empty()) {
+    if (pending.back() == 0) {
+      pending.pop_back();
+      continue;
+    }
+    --pending.back();
+    if (pending.size() > static_cast<std::size_t>(kOctreeMaxDepth)) {
+      return "an inner node deeper than " + std::to_string(kOctreeMaxDepth) + " levels at byte " + std::to_string(pos);
+    }
+    if (size - pos < 2) return "the tree stream ends inside a node at byte " + std::to_string(pos) + " of " + std::to_string(size);
+    int inner = 0;
+    for (int b = 0; b < 2; ++b)
+      for (int child = 0; child < 4; ++child) inner += ((data[pos + b] >> (2 * child)) & 3u) == 3u;
+    pos += 2;
+    pending.push_back(inner);
+  }
+  if (pos != size) return std::to_string(size - pos) + " bytes after the end of the tree stream";
+  return "";
 }
 
 GridConversion to_grid(const octomap::OcTree& tree, const std::vector<Eigen::Vector2d>& keep_W, const MapParams& params,

@@ -52,8 +52,19 @@ struct TreeConversion {
   std::string error;
 };
 /// Decodes the OctoMap stream of a MAP_OCTOMAP message: frame, resolution (must equal
-/// `params.resolution_m`), tree type "OcTree", num_bytes, size limit, then the stream itself.
+/// `params.resolution_m`), tree type "OcTree", num_bytes, size limit, binary format, the
+/// stream's structure (octree_binary_problem), then the stream itself.
 TreeConversion decode_octomap(const octomap_t& msg, const std::string& frame_id, const MapParams& params);
+
+/// Levels of an OcTree below its root (OctoMap's 16-bit keys).
+inline constexpr int kOctreeMaxDepth = 16;
+
+/// "" when data[0, size) is exactly one OcTree in OctoMap's binary node format (the stream
+/// OcTree::readBinaryData reads) of at most kOctreeMaxDepth levels; otherwise why not. OctoMap's
+/// reader checks none of this: on a stream that ends inside a node it goes on with child codes it
+/// never read (uninitialised), and an ASan build of porter-planner then built subtrees until it
+/// was stopped.
+std::string octree_binary_problem(const std::uint8_t* data, std::size_t size);
 
 struct GridConversion {
   std::optional<OccupancyGrid> grid;

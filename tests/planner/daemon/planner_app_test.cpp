@@ -247,6 +247,53 @@ TEST(PlannerMessages, OctomapRefusals) {
   EXPECT_NE(to_grid(*t.tree, {{0.0, 0.0}}, small).error.find("voxels"), std::string::npos);
 }
 
+TEST(PlannerMessages, TheTreeStreamIsCheckedBeforeOctomapReadsIt) {
+  const octomap_t good = map_msg(column_tree(1.0, 1.0), 1);
+  const std::vector<std::uint8_t>& d = good.data;
+  EXPECT_EQ(octree_binary_problem(d.data(), d.size()), "");
+  // Every truncation ends inside a node (OctoMap's reader would go on with bytes it never read).
+  for (std::size_t n = 0; n < d.size(); ++n) {
+    const std::string why = octree_binary_problem(d.data(), n);
+    ASSERT_NE(why.find("ends inside a node"), std::string::npos) << n << ": " << why;
+  }
+  std::vector<std::uint8_t> longer = d;
+  longer.push_back(0);
+  EXPECT_NE(octree_binary_problem(longer.data(), longer.size()).find("1 bytes after"), std::string::npos);
+  // Inner nodes all the way down: deeper than an OcTree can be.
+  const std::vector<std::uint8_t> deep(64, 0xff);
+  EXPECT_NE(octree_binary_problem(deep.data(), deep.size()).find("deeper than 16 levels"), std::string::npos);
+  // The message: a truncated stream and the full format are refused before OctoMap reads them.
+  octomap_t m = good;
+  m.data.resize(m.data.size() - 3);
+  m.num_bytes = static_cast<std::int32_t>(m.data.size());
+  EXPECT_NE(decode_octomap(m, "world", MapParams{}).error.find("ends inside a node"), std::string::npos);
+  m = good;
+  m.binary = false;
+  EXPECT_NE(decode_octomap(m, "world", MapParams{}).error.find("binary"), std::string::npos);
+  EXPECT_TRUE(decode_octomap(good, "world", MapParams{}).tree);
+}
+
+TEST(PlannerMessages, StreamsTheCheckPassesAreReadByOctomapToTheirLastByte) {
+  // The check against OctoMap's own reader: a mutated stream the check accepts is one OctoMap
+  // reads exactly to its end (no byte short, none left), giving a tree.
+  std::mt19937 rng(23);
+  const octomap_t good = map_msg(column_tree(1.0, 1.0), 1);
+  int accepted = 0;
+  for (int i = 0; i < 2000; ++i) {
+    std::vector<std::uint8_t> d = good.data;
+    for (int k = 0; k < 1 + i % 4; ++k) d[rng() % d.size()] = static_cast<std::uint8_t>(rng());
+    if (i % 5 == 0) d.resize(rng() % (d.size() + 1));
+    if (!octree_binary_problem(d.data(), d.size()).empty()) continue;
+    ++accepted;
+    std::istringstream in(std::string(reinterpret_cast<const char*>(d.data()), d.size()));
+    octomap::OcTree tree(0.05);
+    tree.readBinaryData(in);
+    ASSERT_FALSE(in.fail()) << "mutation " << i;
+    EXPECT_EQ(in.peek(), std::char_traits<char>::eof()) << "mutation " << i;
+  }
+  EXPECT_GT(accepted, 100);
+}
+
 TEST(PlannerMessages, RandomOctomapStreamsAreDecodedOrRefusedNeverCrash) {
   std::mt19937 rng(5);
   MapParams p;
