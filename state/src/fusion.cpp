@@ -9,7 +9,8 @@
 namespace porter::state {
 namespace {
 
-double age_s(std::int64_t now, std::int64_t then) { return static_cast<double>(now - then) * 1e-6; }
+// In double: the stamps come from datagrams, and their int64 difference can overflow.
+double age_s(std::int64_t now, std::int64_t then) { return (static_cast<double>(now) - static_cast<double>(then)) * 1e-6; }
 
 bool finite(const BasePose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "fuzz_allocation_limit.hpp"
+#include "porter/lcm_guard.hpp"
 #include "porter/estop_t.hpp"
 #include "state_messages.hpp"
 
@@ -15,6 +16,8 @@ namespace {
 
 template <class T>
 bool decode(const std::uint8_t* data, std::size_t size, T& msg) {
+  // What LcmBus does: the guard first (lcm-gen's decoders trust the lengths in the bytes).
+  if (!porter::lcm_guard_check<T>(data, size).ok) return false;
   try {
     return msg.decode(data, 0, static_cast<int>(size)) == static_cast<int>(size);
   } catch (...) {
