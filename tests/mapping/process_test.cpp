@@ -23,16 +23,23 @@ namespace {
 
 using livox::sim::Waypoint;
 
-TEST(MapperProcess, CloudsInMapsAndHeartbeatOut) {
-  const std::string url = porter::test::private_lcm_url() + "&recv_buf_size=4194304";
+/// The shipped mapper config on `url` with a 1 s status period, written next to it as
+/// mapping/<prefix><pid>.yaml (its relative paths stay valid); returns the path.
+std::string write_config(const std::string& url, const std::string& prefix) {
   std::ifstream in(test::config_path("mapping/porter_mapper.yaml"));
   std::stringstream text;
   text << in.rdbuf();
   std::string cfg = text.str();
   cfg.replace(cfg.find("lcm_url: \"\""), 11, "lcm_url: \"" + url + "\"");
   cfg.replace(cfg.find("status_log_period_s: 10.0"), 25, "status_log_period_s: 1.0");
-  const std::string cfg_path = test::config_path("mapping/.process_test_" + std::to_string(::getpid()) + ".yaml");
-  { std::ofstream(cfg_path) << cfg; }
+  const std::string path = test::config_path("mapping/" + prefix + std::to_string(::getpid()) + ".yaml");
+  { std::ofstream(path) << cfg; }
+  return path;
+}
+
+TEST(MapperProcess, CloudsInMapsAndHeartbeatOut) {
+  const std::string url = porter::test::private_lcm_url() + "&recv_buf_size=4194304";
+  const std::string cfg_path = write_config(url, ".process_test_");
   const std::string log_path = ::testing::TempDir() + "porter_mapper_process_" + std::to_string(::getpid()) + ".log";
 
   porter::LcmBus bus(url);
@@ -137,14 +144,7 @@ TEST(MapperProcess, CloudsInMapsAndHeartbeatOut) {
 // full), and each is processed or dropped and counted there.
 TEST(MapperProcess, ABurstOfCloudsReachesTheNodeWhole) {
   const std::string url = porter::test::private_lcm_url() + "&recv_buf_size=4194304";
-  std::ifstream in(test::config_path("mapping/porter_mapper.yaml"));
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string cfg = text.str();
-  cfg.replace(cfg.find("lcm_url: \"\""), 11, "lcm_url: \"" + url + "\"");
-  cfg.replace(cfg.find("status_log_period_s: 10.0"), 25, "status_log_period_s: 1.0");
-  const std::string cfg_path = test::config_path("mapping/.process_burst_test_" + std::to_string(::getpid()) + ".yaml");
-  { std::ofstream(cfg_path) << cfg; }
+  const std::string cfg_path = write_config(url, ".process_burst_test_");
   const std::string log_path = ::testing::TempDir() + "porter_mapper_burst_" + std::to_string(::getpid()) + ".log";
 
   porter::LcmBus bus(url);

@@ -1,7 +1,7 @@
 // One Planner for many plans and maps: the robot side (kernels and self-collision proofs, per-link
 // SDFs) is built once and never again for a new map (counted, not timed); the same request on the
 // same map gives the same plan again; a refused map and a missing map are statuses; a canceled
-// request stops before planning; another acceptance test can replace the kernel check.
+// request returns before planning; another acceptance test can replace the kernel check.
 #include <chrono>
 #include <memory>
 #include <thread>

@@ -26,7 +26,7 @@
 // Stops refine_iterations after the first connection (so results do not depend on machine
 // speed), at max_iterations, or at the time budget; a successful solution is then shortened by
 // shortcut_attempts random shortcuts (straight joint-space lines across several layers). Deterministic for a given seed when it
-// stops before the budget.
+// ends before the budget.
 //
 // Thread-safety: plan() is const and reentrant; the checker must not change its map meanwhile.
 
