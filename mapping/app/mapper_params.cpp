@@ -52,7 +52,7 @@ MapperConfig load_mapper_config(const std::string& path) {
 
   const auto map = cfg.get("map");
   map.expect_keys({"resolution_m", "size_voxels", "z_min_m", "recenter_distance_m", "prob_hit",
-                   "prob_miss", "clamp_min", "clamp_max", "occupancy_threshold"});
+                   "prob_miss", "clamp_min", "clamp_max", "occupancy_threshold", "new_surface_shadow_m"});
   p.map.resolution_m = map.get("resolution_m").as_positive();
   const std::vector<double> size = map.get("size_voxels").as_doubles(3);
   for (int i = 0; i < 3; ++i) {
@@ -66,6 +66,7 @@ MapperConfig load_mapper_config(const std::string& path) {
   p.map.clamp_min = map.get("clamp_min").as_double();
   p.map.clamp_max = map.get("clamp_max").as_double();
   p.map.occupancy_threshold = map.get("occupancy_threshold").as_double();
+  p.map.new_surface_shadow_m = map.get("new_surface_shadow_m").as_nonnegative();
 
   const auto self = cfg.get("self_filter");
   self.expect_keys({"enabled", "margin_m", "cell_m", "arm_pose_period_s"});

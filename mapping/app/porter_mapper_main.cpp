@@ -38,6 +38,7 @@ std::string ms(double s) { return rt::format_ms(s); }
 struct Timing {  // per log period, touched by the worker only
   double filter_max_s = 0, integrate_max_s = 0, encode_max_s = 0, latency_max_s = 0, busy_s = 0;
   std::uint64_t clouds = 0, points = 0;
+  std::uint64_t new_surfaces = 0, shadowed = 0;  // voxels (map.new_surface_shadow_m)
 };
 
 }  // namespace
@@ -125,6 +126,8 @@ int main(int argc, char** argv) {
       timing.busy_s += (rt::mono_ns() - t0) * 1e-9;
       ++timing.clouds;
       timing.points += r.report.filter.points_in;
+      timing.new_surfaces += r.report.integrate.new_surfaces;
+      timing.shadowed += r.report.integrate.shadowed;
     }
   });
 
@@ -175,9 +178,10 @@ int main(int argc, char** argv) {
       char line[512];
       std::snprintf(line, sizeof line,
                     "%.1f clouds/s, %.0f points/s, worker busy %.1f %%; max filter %s, integrate %s, map %s, "
-                    "cloud-to-map %s; ",
+                    "cloud-to-map %s; new surfaces %llu voxels, shadowed behind and below them %llu; ",
                     t.clouds / dt, t.points / dt, 100.0 * t.busy_s / dt, ms(t.filter_max_s).c_str(),
-                    ms(t.integrate_max_s).c_str(), ms(t.encode_max_s).c_str(), ms(t.latency_max_s).c_str());
+                    ms(t.integrate_max_s).c_str(), ms(t.encode_max_s).c_str(), ms(t.latency_max_s).c_str(),
+                    static_cast<unsigned long long>(t.new_surfaces), static_cast<unsigned long long>(t.shadowed));
       rt::log_info(std::string(line) + status + (c.last_reject.empty() ? "" : "; last rejected: " + c.last_reject));
       last_log = now;
     }

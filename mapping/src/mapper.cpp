@@ -25,6 +25,8 @@ std::string validate(const MapperParams& p) {
   if (!prob(m.prob_miss) || m.prob_miss >= 0.5) return "map.prob_miss must be in (0, 0.5)";
   if (!prob(m.clamp_min) || !prob(m.clamp_max) || m.clamp_min >= m.clamp_max) return "map.clamp_min/max must satisfy 0 < min < max < 1";
   if (!prob(m.occupancy_threshold)) return "map.occupancy_threshold must be in (0, 1)";
+  // A shadow longer than a few metres would mark whole rooms behind a person walking by.
+  if (!(m.new_surface_shadow_m >= 0.0 && m.new_surface_shadow_m <= 5.0)) return "map.new_surface_shadow_m must be in [0, 5] m";
   if (!(p.recenter_distance_m >= 0.0)) return "recenter_distance_m must be >= 0";
   if (!(p.min_range_m >= 0.0)) return "min_range_m must be >= 0";
   if (!(p.max_range_m > p.min_range_m)) return "max_range_m must be > min_range_m";

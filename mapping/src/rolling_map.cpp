@@ -31,6 +31,7 @@ RollingMap::RollingMap(const RollingMapParams& params)
   const std::size_t n = static_cast<std::size_t>(stride_z_ * params_.dims.z());
   log_odds_.assign(n, kUnknown);
   touched_.assign((n + 63) / 64, 0);
+  settled_free_.assign((n + 63) / 64, 0);
   ray_end_.assign((n + 63) / 64, 0);
   block_dims_ = (params_.dims.array() + ((1 << kBlockShift) - 1)).matrix() / (1 << kBlockShift);
   block_rev_.assign(static_cast<std::size_t>(block_dims_.prod()), 0);
@@ -262,6 +263,52 @@ void RollingMap::cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_
   stats.voxels_traversed += traversed;
 }
 
+void RollingMap::shadow_behind(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, IntegrateStats& stats) {
+  const Eigen::Vector3f ray = end - origin;
+  const float length = ray.norm();
+  if (!(length > 0.0f)) return;
+  const Eigen::Vector3d u = (ray / length).cast<double>();
+  const Eigen::Vector3d e = end.cast<double>();
+  const Eigen::Vector3i key_end = key_of(e);
+  // Sampled every quarter voxel from the hit point on: each voxel the ray enters behind it is
+  // visited (a voxel it only clips at a corner, shorter than a quarter voxel, may be skipped).
+  const double step = 0.25 * params_.resolution_m;
+  const int samples = static_cast<int>(std::ceil(params_.new_surface_shadow_m / step));
+  const float shadow = shadow_log_odds();
+  shadow_below(key_end, stats);
+  Eigen::Vector3i last = key_end;
+  for (int j = 1; j <= samples; ++j) {
+    const Eigen::Vector3i key = key_of(Eigen::Vector3d(e + u * (step * j)));
+    if (key == last) continue;
+    last = key;
+    if (!in_window(key)) return;  // every axis moves monotonically: it does not come back
+    const std::int64_t k = slot(key);
+    if (test_bit(touched_, k)) continue;  // crossed by a ray of this cloud: seen free now
+    float& v = log_odds_[static_cast<std::size_t>(k)];
+    // The shadow runs through the free voxels right behind the surface, and ends at the first
+    // voxel that is not free: behind a static object's surface lies its unseen (unknown) or
+    // occupied inside, and the free space past that is not what the new surface hides.
+    if (v != v || v >= occupancy_log_) return;
+    v = shadow;
+    set_state(k, 2);
+    ++stats.shadowed;
+    shadow_below(key, stats);
+  }
+}
+
+void RollingMap::shadow_below(const Eigen::Vector3i& key, IntegrateStats& stats) {
+  const float shadow = shadow_log_odds();
+  for (Eigen::Vector3i below(key.x(), key.y(), key.z() - 1); below.z() >= window_min_.z(); --below.z()) {
+    const std::int64_t k = slot(below);
+    if (test_bit(touched_, k)) continue;  // crossed by a ray of this cloud: seen free now
+    float& v = log_odds_[static_cast<std::size_t>(k)];
+    if (v != v || v >= occupancy_log_) return;
+    v = shadow;
+    set_state(k, 2);
+    ++stats.shadowed;
+  }
+}
+
 IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std::vector<Eigen::Vector3f>& points_W,
                                      const IntegrateOptions& options) {
   IntegrateStats stats;
@@ -276,6 +323,8 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
   }
   const Eigen::Vector3i key_origin = key_of(origin_W.cast<double>());
   occupied_list_.clear();
+  occupied_ends_.clear();
+  new_surfaces_.clear();
   end_list_.clear();
   ray_ends_.clear();
   const float max_range = static_cast<float>(options.max_range_m);
@@ -312,6 +361,7 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
       ++stats.hits;
       if (test_bit(touched_, k)) continue;  // pass 1 touches hits only
       occupied_list_.push_back(k);
+      occupied_ends_.push_back(end);
       set_bit(touched_, k);
       ray_ends_.push_back(end);
     } else {
@@ -333,16 +383,29 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
   // A voxel's state: 0 unknown, 1 free, 2 occupied; a change stamps its block.
   const float occ = occupancy_log_;
   const auto state_of = [occ](float v) { return v != v ? 0 : (v >= occ ? 2 : 1); };
-  for (std::int64_t k : occupied_list_) {
+  const bool shadows = params_.new_surface_shadow_m > 0.0;
+  for (std::size_t i = 0; i < occupied_list_.size(); ++i) {
+    const std::int64_t k = occupied_list_[i];
     float& v = log_odds_[static_cast<std::size_t>(k)];
     const int before = state_of(v);
     if (v != v) v = 0.0f;
     v += hit_log_;
     if (v > clamp_max_log_) v = clamp_max_log_;
     const int after = state_of(v);
-    if (after != before) set_state(k, after);
+    if (after != before) {
+      set_state(k, after);
+      if (after == 2) {
+        if (test_bit(settled_free_, k)) new_surfaces_.push_back(i);
+        clear_bit(settled_free_, k);
+      }
+    }
     clear_bit(touched_, k);
   }
+  stats.new_surfaces = new_surfaces_.size();
+  // Before the free updates clear them, the touched marks say which voxels a ray of this cloud
+  // crossed: those are seen free now and keep no shadow.
+  if (shadows)
+    for (std::size_t i : new_surfaces_) shadow_behind(origin_W, occupied_ends_[i], stats);
   std::uint64_t free_updates = 0;
   // The touched voxels are sparse in the 41 MB array: ask for the cache lines (16 floats, 16
   // bits of a word) a few words ahead of the ones being updated.
@@ -361,8 +424,10 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
     std::uint64_t bits = touched_[w];
     if (bits == 0) continue;
     touched_[w] = 0;
+    std::uint64_t settled = settled_free_[w];
     while (bits) {
       const int b = __builtin_ctzll(bits);
+      const std::uint64_t bit = bits & (~bits + 1);
       bits &= bits - 1;
       const std::size_t k = (w << 6) + static_cast<std::size_t>(b);
       float& v = log_odds_[k];
@@ -372,8 +437,10 @@ IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std:
       if (v < clamp_min_log_) v = clamp_min_log_;
       const int after = state_of(v);
       if (after != before) set_state(static_cast<std::int64_t>(k), after);
+      settled = v == clamp_min_log_ ? (settled | bit) : (settled & ~bit);
       ++free_updates;
     }
+    settled_free_[w] = settled;
   }
   for (std::int64_t k : end_list_) clear_bit(ray_end_, k);
   stats.occupied_updates = occupied_list_.size();

@@ -186,6 +186,160 @@ TEST(RollingMap, OriginOutsideTheWindowIntegratesNothing) {
   EXPECT_EQ(map.count(VoxelState::unknown), map.dims().prod());
 }
 
+// Shadow of a new surface. The scene seen from (0, 0, 0.5): a back wall at x = 3 (y in
+// [-0.8, 0.8], z in [0.1, 0.9]), then a box face at x = 1.5 (y in [-0.2, 0.2), z in [0.3, 0.7)) that
+// appears in the space the wall's rays had cleared.
+namespace shadow {
+const Eigen::Vector3f kOrigin(0.0f, 0.0f, 0.5f);
+std::vector<Eigen::Vector3f> plane_x(float x, float y0, float y1, float z0, float z1) {
+  std::vector<Eigen::Vector3f> pts;
+  for (float y = y0 + 0.0125f; y < y1; y += 0.025f)
+    for (float z = z0 + 0.0125f; z < z1; z += 0.025f) pts.emplace_back(x, y, z);
+  return pts;
+}
+std::vector<Eigen::Vector3f> wall() { return plane_x(3.0125f, -0.8f, 0.8f, 0.1f, 0.9f); }
+/// The wall's points the box hides, replaced by the box's face.
+std::vector<Eigen::Vector3f> wall_and_box() {
+  std::vector<Eigen::Vector3f> pts = plane_x(1.5125f, -0.2f, 0.2f, 0.3f, 0.7f);
+  for (const Eigen::Vector3f& w : wall()) {
+    const Eigen::Vector3f at_face = kOrigin + (w - kOrigin) * (1.5125f / 3.0125f);
+    if (!(std::abs(at_face.y()) < 0.2f && at_face.z() >= 0.3f && at_face.z() < 0.7f)) pts.push_back(w);
+  }
+  return pts;
+}
+RollingMap make(double depth_m) {
+  RollingMapParams p;
+  p.dims = {100, 60, 30};
+  p.new_surface_shadow_m = depth_m;
+  RollingMap map(p);
+  map.center_on(1.5, 0.0);
+  return map;
+}
+/// States of the voxels on the ray through the face's middle, from x = 1.55 to x_end.
+std::vector<VoxelState> behind(const RollingMap& map, double x_end = 2.95) {
+  std::vector<VoxelState> s;
+  for (double x = 1.575; x < x_end; x += 0.05) s.push_back(map.state(map.key_of(Eigen::Vector3d(x, 0.0125, 0.5125))));
+  return s;
+}
+}  // namespace shadow
+
+TEST(RollingMapShadow, TheUnseenDepthOfANewObstacleIsOccupiedUpToTheShadowDepth) {
+  using namespace shadow;
+  for (const double depth : {0.0, 0.6}) {
+    RollingMap map = make(depth);
+    for (int i = 0; i < 10; ++i) map.integrate(kOrigin, wall(), {});  // the space is seen free, clamped
+    ASSERT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.5125))), VoxelState::free);
+    std::uint64_t newly = 0, shadowed = 0;
+    for (int i = 0; i < 4; ++i) {  // three hits turn a clamped free voxel occupied
+      const IntegrateStats st = map.integrate(kOrigin, wall_and_box(), {});
+      newly += st.new_surfaces;
+      shadowed += st.shadowed;
+    }
+    EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.5125))), VoxelState::occupied);
+    EXPECT_EQ(newly, 64u);  // the face: 8 x 8 voxels of 0.05 m
+    const std::vector<VoxelState> b = behind(map);
+    // 0.6 m behind the face (x up to 2.1125) occupied, farther still free (stale, as OctoMap).
+    for (std::size_t i = 0; i < b.size(); ++i) {
+      const double x = 1.575 + 0.05 * static_cast<double>(i);
+      const VoxelState want = depth > 0.0 && x < 1.5125 + 0.6 - 0.03 ? VoxelState::occupied : VoxelState::free;
+      if (depth > 0.0 && std::abs(x - (1.5125 + 0.6)) < 0.05) continue;  // the sample at the end
+      EXPECT_EQ(b[i], want) << "depth " << depth << ", x " << x;
+    }
+    if (depth == 0.0) {
+      EXPECT_EQ(shadowed, 0u);
+    } else {
+      EXPECT_GT(shadowed, 64u * 10u);
+      EXPECT_LT(shadowed, 64u * 16u);  // 12-15 voxels behind each face voxel, each set once
+      // The space beside the box, crossed by the wall's rays, stays free.
+      EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.8125, 0.3125, 0.5125))), VoxelState::free);
+    }
+  }
+}
+
+TEST(RollingMapShadow, OneRayThroughAShadowMakesItFreeAgain) {
+  using namespace shadow;
+  RollingMap map = make(0.6);
+  for (int i = 0; i < 10; ++i) map.integrate(kOrigin, wall(), {});
+  for (int i = 0; i < 4; ++i) map.integrate(kOrigin, wall_and_box(), {});
+  const Eigen::Vector3i k = map.key_of(Eigen::Vector3d(1.8125, 0.0125, 0.5125));
+  ASSERT_EQ(map.state(k), VoxelState::occupied);
+  EXPECT_FLOAT_EQ(map.log_odds(k), map.shadow_log_odds());
+  // The box goes: the wall's rays cross the shadow once, and it is free.
+  const IntegrateStats st = map.integrate(kOrigin, wall(), {});
+  EXPECT_EQ(st.shadowed, 0u);
+  EXPECT_EQ(map.state(k), VoxelState::free);
+  // The face itself (hit four times, then one miss) is still occupied.
+  EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.5125))), VoxelState::occupied);
+}
+
+TEST(RollingMapShadow, ASurfaceSeenForTheFirstTimeCastsNoShadowIntoUnknownSpace) {
+  using namespace shadow;
+  RollingMap map = make(1.0);
+  const IntegrateStats st = map.integrate(kOrigin, plane_x(1.5125f, -0.2f, 0.2f, 0.3f, 0.7f), {});
+  EXPECT_EQ(st.occupied_updates, 64u);
+  EXPECT_EQ(st.new_surfaces, 0u);
+  EXPECT_EQ(st.shadowed, 0u);
+  for (const VoxelState s : behind(map)) EXPECT_EQ(s, VoxelState::unknown);
+}
+
+// A voxel whose hits alternate with misses (rays grazing a surface) is no new surface, even
+// when it ends up occupied.
+TEST(RollingMapShadow, AVoxelWhoseHitsAlternateWithMissesCastsNoShadow) {
+  using namespace shadow;
+  RollingMap map = make(1.0);
+  for (int i = 0; i < 10; ++i) map.integrate(kOrigin, wall(), {});
+  const std::vector<Eigen::Vector3f> box = wall_and_box();
+  std::uint64_t new_surfaces = 0, shadowed = 0;
+  // hit, hit, miss, hit, hit, hit: occupied at the end, never by hits alone from the clamp.
+  for (const bool hit : {true, true, false, true, true, true}) {
+    const IntegrateStats st = map.integrate(kOrigin, hit ? box : wall(), {});
+    new_surfaces += st.new_surfaces;
+    shadowed += st.shadowed;
+  }
+  EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.5125))), VoxelState::occupied);
+  EXPECT_EQ(new_surfaces, 0u);
+  EXPECT_EQ(shadowed, 0u);
+}
+
+// New obstacles stand on the floor: the free voxels below a new surface (and below its shadow)
+// turn occupied down to the first unknown one; below a voxel a ray of the same cloud crossed,
+// they stay free.
+TEST(RollingMapShadow, TheSpaceBelowANewSurfaceIsShadowedDownToWhatWasNeverSeen) {
+  using namespace shadow;
+  // A wall down to the floor: its lowest rays cross the column x [1.5, 1.55) down to z 0.249,
+  // so there the voxels z [0.2, 0.3) below the face are seen free and the ones below never are.
+  const std::vector<Eigen::Vector3f> low_wall = plane_x(3.0125f, -0.8f, 0.8f, 0.0f, 0.9f);
+  const auto at_face = [](const Eigen::Vector3f& p) { return kOrigin + (p - kOrigin) * (1.5125f / p.x()); };
+  const Eigen::Vector3d under(1.5125, 0.0125, 0.2625);
+  for (const bool lower_rays : {true, false}) {
+    SCOPED_TRACE(lower_rays ? "the wall's rays below the face still come" : "they are hidden too");
+    RollingMap map = make(0.6);
+    for (int i = 0; i < 10; ++i) map.integrate(kOrigin, low_wall, {});
+    ASSERT_EQ(map.state(map.key_of(under)), VoxelState::free);
+    ASSERT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.2125))), VoxelState::free);
+    ASSERT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.1625))), VoxelState::unknown);
+    std::vector<Eigen::Vector3f> cloud = plane_x(1.5125f, -0.2f, 0.2f, 0.3f, 0.7f);
+    for (const Eigen::Vector3f& w : low_wall) {
+      const Eigen::Vector3f f = at_face(w);
+      const bool behind_face = std::abs(f.y()) < 0.2f && f.z() >= 0.3f && f.z() < 0.7f;
+      const bool below_face = std::abs(f.y()) < 0.2f && f.z() < 0.3f;
+      if (!behind_face && (lower_rays || !below_face)) cloud.push_back(w);
+    }
+    std::uint64_t shadowed = 0;
+    for (int i = 0; i < 3; ++i) shadowed += map.integrate(kOrigin, cloud, {}).shadowed;
+    EXPECT_GT(shadowed, 0u);
+    // Crossed by rays of the same clouds: free; not crossed: shadowed, down to the unknown.
+    EXPECT_EQ(map.state(map.key_of(under)), lower_rays ? VoxelState::free : VoxelState::occupied);
+    EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.2125))),
+              lower_rays ? VoxelState::free : VoxelState::occupied);
+    EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.5125, 0.0125, 0.1625))), VoxelState::unknown);
+    // Below the shadow behind the face: seen free by the wall's low rays before, hidden now.
+    if (!lower_rays) {
+      EXPECT_EQ(map.state(map.key_of(Eigen::Vector3d(1.8125, 0.0125, 0.2125))), VoxelState::occupied);
+    }
+  }
+}
+
 // The stream equals stock writeBinaryData of a tree holding the same voxels, and reads back.
 TEST(OctomapBinary, EqualsStockWriteBinaryDataOfTheSameVoxels) {
   for (int trial = 0; trial < 4; ++trial) {
@@ -241,7 +395,8 @@ TEST(OctomapBinary, EmptyMapIsAnEmptyStream) {
 
 /// One random change to the map: a cloud (hits, some beyond a range limit, some ground), a move
 /// of a few voxels, a long move or a jump past the window, or (rarely) clear().
-void random_change(std::mt19937& rng, RollingMap& map, Eigen::Vector2d& at) {
+/// Returns the voxels set occupied as shadows of new surfaces.
+std::uint64_t random_change(std::mt19937& rng, RollingMap& map, Eigen::Vector2d& at) {
   const double res = map.resolution_m();
   std::uniform_int_distribution<int> pick(0, 99);
   const int what = pick(rng);
@@ -251,7 +406,7 @@ void random_change(std::mt19937& rng, RollingMap& map, Eigen::Vector2d& at) {
     IntegrateOptions opt;
     opt.max_range_m = pick(rng) < 50 ? 1.2 : -1.0;
     opt.ground_height_m = 0.1;
-    map.integrate(origin, sparse_points(rng, origin, res, 150 + pick(rng) * 4, 1.6, -0.3, 1.4), opt);
+    return map.integrate(origin, sparse_points(rng, origin, res, 150 + pick(rng) * 4, 1.6, -0.3, 1.4), opt).shadowed;
   } else if (what < 85) {
     std::uniform_int_distribution<int> step(-3, 3);
     at += Eigen::Vector2d(step(rng), step(rng)) * res;
@@ -263,6 +418,7 @@ void random_change(std::mt19937& rng, RollingMap& map, Eigen::Vector2d& at) {
   } else {
     map.clear();
   }
+  return 0;
 }
 
 /// State of every slot (0 unknown, 1 free, 2 occupied).
@@ -278,20 +434,25 @@ std::vector<std::uint8_t> slot_states(const RollingMap& map) {
 // Every slot whose state changed since revision r lies in a block stamped after r, and the
 // packed states equal the log-odds' (what the incremental writer relies on), over random
 // clouds, moves and clears.
-TEST(RollingMap, BlockStampsCoverEveryStateChange) {
+// With and without the shadow of new surfaces (which changes voxels no ray reaches).
+class BlockStamps : public ::testing::TestWithParam<double> {};
+INSTANTIATE_TEST_SUITE_P(RollingMap, BlockStamps, ::testing::Values(0.0, 0.6));
+TEST_P(BlockStamps, CoverEveryStateChange) {
   RollingMapParams p;
   p.dims = {45, 38, 21};  // not multiples of 8: partial blocks at the ends
   p.z_min_m = -0.33;
+  p.new_surface_shadow_m = GetParam();
   RollingMap map(p);
   std::mt19937 rng(11);
   Eigen::Vector2d at(0.2, -0.1);
   map.center_on(at.x(), at.y());
   std::int64_t changed_total = 0, missed = 0;
+  std::uint64_t shadowed = 0;
   for (int round = 0; round < 60; ++round) {
     const std::vector<std::uint8_t> before = slot_states(map);
     const std::uint64_t r = map.revision();
     const int changes = 1 + round % 3;
-    for (int c = 0; c < changes; ++c) random_change(rng, map, at);
+    for (int c = 0; c < changes; ++c) shadowed += random_change(rng, map, at);
     const std::vector<std::uint8_t> after = slot_states(map);
     const Eigen::Vector3i& n = map.dims();
     for (std::size_t i = 0; i < after.size(); ++i) {
@@ -317,6 +478,9 @@ TEST(RollingMap, BlockStampsCoverEveryStateChange) {
   }
   EXPECT_GT(changed_total, 10000);
   EXPECT_EQ(missed, 0);
+  if (GetParam() > 0.0) {
+    EXPECT_GT(shadowed, 100u);  // the shadows' changes were among them
+  }
 }
 
 // The incremental writer gives the full encode's bytes after every kind of change, with writes

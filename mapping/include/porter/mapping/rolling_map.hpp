@@ -18,6 +18,19 @@
 // cloud, cast to the first point that fell in it), per-cloud dedup of traversed voxels uses a
 // dense mark array instead of a hash set, and rays stop where they leave the window.
 //
+// Shadow of a new surface (new_surface_shadow_m > 0). A voxel that misses had left at the
+// clamp (seen free again and again) and that then turns occupied by hits alone is a new surface:
+// something stands where rays passed before. The free space seen behind and below it before it
+// appeared is stale - the surface now hides it - so the free voxels right behind it along the
+// ray that saw it (up to new_surface_shadow_m), and the free voxels below it and below each of
+// those (new obstacles stand on the floor), are set to shadow_log_odds(): occupied, and free
+// again after one miss. Each run of them ends at the first voxel that is unknown or occupied
+// (behind a surface lies the object's unseen inside); voxels a ray of this cloud crossed are
+// seen free and keep their state. Without this the far side and the lower part of a box that
+// appears in seen-free space stay free in the map (docs/mapping.md, "Shadow of a new surface").
+// A surface seen for the first time, or a voxel whose hits alternate with misses (a surface
+// grazed by rays), casts no shadow.
+//
 // Kinds of points (integrate's options): a point farther than max_range_m from the origin gives
 // a free ray to the range limit (as OctoMap's maxrange); a point below ground_height_m (world z)
 // gives a free ray to the point but no hit (the ground is not an obstacle, yet rays to it clear
@@ -53,6 +66,9 @@ struct RollingMapParams {
   double clamp_min = 0.1192;
   double clamp_max = 0.971;
   double occupancy_threshold = 0.5;
+  /// Depth behind a new surface whose free voxels are set occupied (see the header
+  /// comment), m; 0 = off (OctoMap's model).
+  double new_surface_shadow_m = 0.0;
 };
 
 struct IntegrateOptions {
@@ -71,6 +87,8 @@ struct IntegrateStats {
   std::uint64_t occupied_updates = 0;
   std::uint64_t free_updates = 0;
   std::uint64_t voxels_traversed = 0;
+  std::uint64_t new_surfaces = 0;  ///< voxels turned occupied from settled free (shadow casters)
+  std::uint64_t shadowed = 0;      ///< free voxels behind and below them set occupied (shadow)
   bool origin_outside = false;       ///< the origin was outside the window: nothing integrated
 };
 
@@ -129,6 +147,9 @@ class RollingMap {
   float clamp_min_log() const { return clamp_min_log_; }
   float clamp_max_log() const { return clamp_max_log_; }
   float occupancy_log() const { return occupancy_log_; }
+  /// Log-odds of a shadow voxel: halfway between the threshold and one miss above it, so that
+  /// it is occupied and one miss makes it free.
+  float shadow_log_odds() const { return occupancy_log_ - 0.5f * miss_log_; }
 
   /// Slot of a key inside the window (precondition: in_window).
   std::int64_t slot(const Eigen::Vector3i& key) const {
@@ -165,6 +186,11 @@ class RollingMap {
   /// Marks the voxels of the ray origin -> end (end voxel excluded) as free in this cloud.
   void cast(const Eigen::Vector3f& origin, const Eigen::Vector3i& key_origin, const Eigen::Vector3f& end,
             IntegrateStats& stats);
+  /// Sets the shadow behind (and below) the new surface at `end` (seen from `origin`); runs while
+  /// the touched marks of this cloud's free voxels are still set.
+  void shadow_behind(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, IntegrateStats& stats);
+  /// Sets the free voxels below `key` as shadows, down to the first unknown or occupied one.
+  void shadow_below(const Eigen::Vector3i& key, IntegrateStats& stats);
 
   RollingMapParams params_;
   double inv_res_;
@@ -173,8 +199,14 @@ class RollingMap {
   std::vector<float> log_odds_;        ///< NaN = unknown
   std::vector<std::uint64_t> touched_;  ///< per-cloud: hit or free in this cloud (zero between)
   std::vector<std::uint64_t> ray_end_;  ///< per-cloud: a free-only ray ends here (zero between)
+  /// Set when a miss leaves a voxel at clamp_min (seen free until the clamp), cleared by a miss
+  /// that leaves it above; hits keep it. A voxel that turns occupied with it set is a new surface.
+  /// Stale bits of forgotten voxels are harmless: a voxel needs a miss to be free again.
+  std::vector<std::uint64_t> settled_free_;
   std::vector<std::int64_t> occupied_list_, end_list_;
   std::vector<Eigen::Vector3f> ray_ends_;
+  std::vector<Eigen::Vector3f> occupied_ends_;  ///< the ray end of each occupied_list_ entry
+  std::vector<std::size_t> new_surfaces_;     ///< indices into occupied_list_
   float hit_log_, miss_log_, clamp_min_log_, clamp_max_log_, occupancy_log_;
   std::uint64_t revision_ = 0;
   Eigen::Vector3i block_dims_;
