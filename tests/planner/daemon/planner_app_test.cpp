@@ -70,7 +70,7 @@ TEST(PlannerConfig, StrictAboutKeysAndRanges) {
   const std::string lead = load_error(variant("lead_s: 2.5", "lead_s: 0.5"));
   EXPECT_NE(lead.find("lead_s"), std::string::npos) << lead;
   EXPECT_NE(lead.find("longest plan"), std::string::npos) << lead;
-  EXPECT_NE(load_error(variant("max_attempts: 3", "max_attempts: 0")).find("max_attempts"), std::string::npos);
+  EXPECT_NE(load_error(variant("max_attempts: 10", "max_attempts: 0")).find("max_attempts"), std::string::npos);
 }
 
 octomap_t map_msg(const octomap::OcTree& tree, std::int64_t utime) {
