@@ -76,8 +76,8 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
     // The base rests at the global start (unless the start state moves it) and goal and where a
     // still segment begins or ends. No speed is kept on the piece leaving the global start.
     l.rest_start = !l.still && (s == 0 ? reference_.start.base_at_rest() : reference_.segments[s - 1].base_still);
-    l.rest_end = !l.still && (s + 1 == num_segments || reference_.segments[s + 1].base_still);
-    if (l.rest_start || s == 0) l.min_speed.front() = 0.0;
+    l.rest_end = !l.still && (s + 1 == num_segments ? reference_.end.base_at_rest() : reference_.segments[s + 1].base_still);
+    if (l.rest_start || (s == 0 && !reference_.cut_start_position)) l.min_speed.front() = 0.0;
     if (l.rest_end) l.min_speed.back() = 0.0;
   }
   gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
@@ -177,14 +177,16 @@ bool MidendProblem::build_segment(int s, const double* x) {
   Minco::BoundaryState head = Minco::BoundaryState::Zero();
   Minco::BoundaryState tail = Minco::BoundaryState::Zero();
   if (s == 0) {
-    head.col(0) = node_vector(seg.nodes.front());
+    head.col(0) = reference_.cut_start_position ? *reference_.cut_start_position : node_vector(seg.nodes.front());
     head.col(1) = reference_.start.velocity;
     head.col(2) = reference_.start.acceleration;
   } else {
     gear_state(s - 1, head);
   }
   if (s + 1 == num_segments) {
-    tail.col(0) = node_vector(seg.nodes.back());
+    tail.col(0) = reference_.cut_end_position ? *reference_.cut_end_position : node_vector(seg.nodes.back());
+    tail.col(1) = reference_.end.velocity;
+    tail.col(2) = reference_.end.acceleration;
   } else {
     gear_state(s, tail);
   }

@@ -7,7 +7,10 @@
 // z = [p_x, p_y, q1..q6]. Its boundary states are
 //   - the global start: the first reference node with the reference's start velocity and
 //     acceleration (ReferencePath::start; zero for a start at rest, the paper's case); the goal:
-//     the last reference node at rest (velocity and acceleration zero);
+//     the last reference node at rest (velocity and acceleration zero). A path cut out of a longer
+//     trajectory (ReferencePath::cut_start_position / cut_end_position: the back-end's piece windows) starts
+//     and ends at the given states instead; the rest-boundary terms apply only where the base rests
+//     there, and the min-speed term stays on the pieces next to a cut;
 //   - a gear switch g between segments g and g+1: a decision state
 //       position z_g (8), heading theta_g, joint velocity qd_g (6), joint acceleration qdd_g (6);
 //     base velocity pinned to eta_s * v_ns * [cos theta_g, sin theta_g] on each side (so the
@@ -164,8 +167,11 @@ class MidendProblem {
 
   /// The pieces x describes, segment after segment (eta per piece). Empty if x is unusable.
   std::vector<TrajectoryPiece> pieces(const double* x);
-  /// Yaw at the start of the trajectory (the first reference node's).
-  double start_yaw_rad() const { return reference_.segments.front().nodes.front().base.yaw_rad; }
+  /// Yaw at the start of the trajectory (the first reference node's; ReferencePath::
+  /// cut_start_yaw_rad for a cut).
+  double start_yaw_rad() const {
+    return reference_.cut_start_position ? reference_.cut_start_yaw_rad : reference_.segments.front().nodes.front().base.yaw_rad;
+  }
 
  private:
   struct SegmentLayout {

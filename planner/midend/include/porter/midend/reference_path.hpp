@@ -51,6 +51,7 @@
 // iteration count both grow with the number of pieces.
 // Pure function; thread-safe.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,18 @@ struct ReferencePath {
   std::vector<ReferenceSegment> segments;
   /// The trajectory's velocity and acceleration at the first node (zero: it starts at rest).
   StartDerivatives start;
+  /// The same at the last node (zero: it ends at rest).
+  StartDerivatives end;
+  /// A path cut out of a longer trajectory (the back-end's piece windows, backend/piece_window.hpp)
+  /// starts (ends) where that trajectory is, with its velocity and acceleration there (start /
+  /// end), while its nodes stay the reference's (the pose residuals' targets). A cut keeps the
+  /// min-speed term on the piece next to it, as the longer trajectory's problem does. Empty: the
+  /// node, an end of the plan.
+  std::optional<TrajVector> cut_start_position;
+  std::optional<TrajVector> cut_end_position;
+  /// With cut_start_position: the heading there (the trajectory's start heading, which a base at
+  /// rest holds; MidendProblem::start_yaw_rad).
+  double cut_start_yaw_rad = 0.0;
   int num_pieces() const {
     int n = 0;
     for (const auto& s : segments) n += s.num_pieces();
