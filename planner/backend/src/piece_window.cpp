@@ -106,6 +106,30 @@ std::optional<midend::ReferencePath> window_reference(const midend::ReferencePat
   path.cut_end_position = piece_derivative(last.coeffs, last.duration_s, 0);
   path.end.velocity = piece_derivative(last.coeffs, last.duration_s, 1);
   path.end.acceleration = piece_derivative(last.coeffs, last.duration_s, 2);
+  // Where the whole problem pins the state, the window takes the pinned values, not the
+  // trajectory's (equal up to the MINCO solve's rounding, but a base "at rest" to 1e-17 is not at
+  // rest to the problem): the plan's start and goal are no cuts at all, and at a rest junction
+  // the base's velocity and acceleration are exactly zero.
+  const int segment_first = w.first - a;
+  const int segment_last = segment_first + full.num_pieces();
+  if (w.first == segment_first) {
+    if (s == 0) {
+      path.cut_start_position.reset();
+      path.start = reference.start;
+    } else if (reference.segments[static_cast<std::size_t>(s - 1)].base_still) {
+      path.start.velocity.head<2>().setZero();
+      path.start.acceleration.head<2>().setZero();
+    }
+  }
+  if (w.last == segment_last) {
+    if (s + 1 == static_cast<int>(reference.segments.size())) {
+      path.cut_end_position.reset();
+      path.end = reference.end;
+    } else if (reference.segments[static_cast<std::size_t>(s + 1)].base_still) {
+      path.end.velocity.head<2>().setZero();
+      path.end.acceleration.head<2>().setZero();
+    }
+  }
   path.segments.push_back(std::move(out));
   return path;
 }
