@@ -254,6 +254,7 @@ bool validate_settings(const BackendSettings& s, std::string* why) {
   if (s.max_weight_escalations < 0) return fail("max_weight_escalations must be >= 0");
   if (s.window_grow_pieces < 0) return fail("window_grow_pieces must be >= 0");
   if (!(s.window_max_fraction > 0.0 && s.window_max_fraction <= 1.0)) return fail("window_max_fraction not in (0, 1]");
+  if (!(s.window_cut_jerk_weight >= 0.0) || !std::isfinite(s.window_cut_jerk_weight)) return fail("window_cut_jerk_weight must be >= 0");
   return true;
 }
 
@@ -321,7 +322,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
       int grow = settings_.window_grow_pieces;
       for (;;) {
         const auto t_prep = Clock::now();
-        const std::optional<midend::ReferencePath> ref = window_reference(warm_start.reference, *current, w);
+        const std::optional<midend::ReferencePath> ref = window_reference(warm_start.reference, *current, w, settings_.window_cut_jerk_weight);
         const std::optional<Trajectory> cut = cut_window(*current, w);
         if (!ref || !cut) {
           fallback = true;
@@ -353,9 +354,9 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
         r.rounds += rounds.rounds;
         r.lbfgs_code = rounds.run.code;
         r.safety_weight_scale = rounds.weight_scale;
+        if (r.window_solves == 0 && ctx.have_initial) r.initial_cost = ctx.initial;
         ++r.window_solves;
         r.window_pieces += w.size();
-        if (ctx.have_initial) r.initial_cost = ctx.initial;
         r.final_cost = ctx.best;
         // The window's last iterate is kept even when it does not pass yet (its cost is lower).
         const Eigen::VectorXd xw = driver.x();

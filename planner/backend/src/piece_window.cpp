@@ -69,7 +69,8 @@ std::vector<PieceWindow> windows_around(const std::vector<bool>& flagged, const 
 }
 
 std::optional<midend::ReferencePath> window_reference(const midend::ReferencePath& reference,
-                                                      const Trajectory& current, const PieceWindow& w) {
+                                                      const Trajectory& current, const PieceWindow& w,
+                                                      double cut_jerk_weight) {
   const std::vector<int> seg = segment_of_pieces(reference);
   if (w.size() <= 0 || w.first < 0 || w.last > static_cast<int>(seg.size()) ||
       current.num_pieces() != static_cast<int>(seg.size()))
@@ -129,6 +130,15 @@ std::optional<midend::ReferencePath> window_reference(const midend::ReferencePat
       path.end.velocity.head<2>().setZero();
       path.end.acceleration.head<2>().setZero();
     }
+  }
+  // The held side's base jerk at each cut (header comment "Cuts").
+  path.cut_jerk_weight = cut_jerk_weight;
+  if (path.cut_start_position && w.first > 0) {
+    const TrajectoryPiece& held = current.piece(w.first - 1);
+    path.cut_start_base_jerk = piece_derivative(held.coeffs, held.duration_s, 3).head<2>();
+  }
+  if (path.cut_end_position && w.last < current.num_pieces()) {
+    path.cut_end_base_jerk = piece_derivative(current.piece(w.last).coeffs, 0.0, 3).head<2>();
   }
   path.segments.push_back(std::move(out));
   return path;

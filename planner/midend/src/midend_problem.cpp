@@ -287,6 +287,25 @@ double MidendProblem::boundary_heading(int s, bool at_start, CostBreakdown* brea
   return cost;
 }
 
+double MidendProblem::cut_jerk(int s, bool at_start, const Eigen::Vector2d& held, CostBreakdown* breakdown) {
+  const int i = at_start ? 0 : segment_layout_[s].pieces - 1;
+  const double t = at_start ? 0.0 : durations_[s][i];
+  const auto c = minco_[s].piece(i);
+  const minco::Basis b3 = minco::basis(t, 3);
+  const Eigen::Vector2d d = c.leftCols<2>().transpose() * b3 - held;
+  const double w = reference_.cut_jerk_weight;
+  const double cost = w * d.squaredNorm();
+  const Eigen::Vector2d dj = 2.0 * w * d;
+  auto gc = grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i);
+  gc.leftCols<2>().noalias() += b3 * dj.transpose();
+  if (!at_start) {
+    const Eigen::Vector2d snap = c.leftCols<2>().transpose() * minco::basis(t, 4);
+    grad_t_[s][i] += dj.dot(snap);
+  }
+  if (breakdown) breakdown->cut_jerk += cost;
+  return cost;
+}
+
 double MidendProblem::rest_rates(int s, bool at_start, CostBreakdown* breakdown) {
   const bool wv = (terms_ & kTermWheelVelocity) && settings_.weight_wheel_velocity > 0.0;
   const bool wa = (terms_ & kTermWheelAcceleration) && settings_.weight_wheel_acceleration > 0.0;
@@ -391,6 +410,10 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
     if ((terms_ & kTermBoundaryHeading) && settings_.weight_boundary_heading > 0.0) {
       if (l.rest_start) boundary_heading(s, true, &b);
       if (l.rest_end) boundary_heading(s, false, &b);
+    }
+    if ((terms_ & kTermBoundaryHeading) && reference_.cut_jerk_weight > 0.0) {
+      if (s == 0 && reference_.cut_start_base_jerk) cut_jerk(s, true, *reference_.cut_start_base_jerk, &b);
+      if (s + 1 == num_segments && reference_.cut_end_base_jerk) cut_jerk(s, false, *reference_.cut_end_base_jerk, &b);
     }
   }
   extra_skipped_ = false;

@@ -82,11 +82,12 @@ PieceWindow longest_moving_segment(const midend::ReferencePath& r) {
   return best;
 }
 
-/// Sum of the window problems' costs over `parts` of `s`'s trajectory.
+/// Sum of the window problems' costs over `parts` of `s`'s trajectory (with the cut-jerk pull,
+/// which is zero there: the whole trajectory is C^4 at every cut).
 double window_cost_sum(const Solved& s, const std::vector<PieceWindow>& parts) {
   double sum = 0.0;
   for (const PieceWindow& w : parts) {
-    const std::optional<midend::ReferencePath> ref = window_reference(s.solution.reference, s.trajectory, w);
+    const std::optional<midend::ReferencePath> ref = window_reference(s.solution.reference, s.trajectory, w, 100.0);
     if (!ref) throw std::runtime_error("no window reference");
     midend::MidendProblem part(*ref, midend::MidendLimits::from_robot(midend::testing::scout_mini_piper_model()),
                                s.solution.settings);
@@ -180,14 +181,48 @@ TEST(PieceWindows, AWindowsSolutionSplicedBackHoldsEveryOtherPieceAndJoinsC2) {
   }
 }
 
+TEST(PieceWindows, CutJerkPullIsZeroOnTheHeldTrajectoryAndGrowsWithTheJump) {
+  const Solved s = solve(midend::testing::forest_slalom(60));
+  const PieceWindow m = longest_moving_segment(s.solution.reference);
+  ASSERT_GE(m.size(), 8);
+  const PieceWindow w{m.first + 2, m.first + 6};
+  const midend::MidendLimits limits = midend::MidendLimits::from_robot(midend::testing::scout_mini_piper_model());
+  const std::optional<midend::ReferencePath> with = window_reference(s.solution.reference, s.trajectory, w, 100.0);
+  const std::optional<midend::ReferencePath> without = window_reference(s.solution.reference, s.trajectory, w, 0.0);
+  ASSERT_TRUE(with && without);
+  ASSERT_TRUE(with->cut_start_base_jerk && with->cut_end_base_jerk);
+  midend::MidendProblem a(*with, limits, s.solution.settings), b(*without, limits, s.solution.settings);
+  Eigen::VectorXd x;
+  ASSERT_TRUE(a.decision_from_trajectory(*cut_window(s.trajectory, w), x));
+  midend::CostBreakdown ca, cb;
+  a.evaluate(x, nullptr, &ca);
+  b.evaluate(x, nullptr, &cb);
+  EXPECT_LT(ca.cut_jerk, 1e-12 * (1.0 + ca.total())) << "the held trajectory is C^4 at the cuts";
+  EXPECT_EQ(cb.cut_jerk, 0.0);
+  // Moving the window's first interior waypoint sideways changes the jerk at the first cut: the
+  // pull is 100 |j - j_held|^2 there, the rest of the cost as without it.
+  Eigen::VectorXd moved = x;
+  moved[1] += 0.05;
+  a.evaluate(moved, nullptr, &ca);
+  b.evaluate(moved, nullptr, &cb);
+  const std::vector<TrajectoryPiece> p = a.pieces(moved.data());
+  const Eigen::Vector2d j0 = piece_derivative(p.front().coeffs, 0.0, 3).head<2>();
+  const Eigen::Vector2d j1 = piece_derivative(p.back().coeffs, p.back().duration_s, 3).head<2>();
+  const double expected = 100.0 * ((j0 - *with->cut_start_base_jerk).squaredNorm() + (j1 - *with->cut_end_base_jerk).squaredNorm());
+  EXPECT_GT(expected, 1e-3);
+  EXPECT_NEAR(ca.cut_jerk, expected, 1e-9 * expected);
+  EXPECT_NEAR(ca.total() - ca.cut_jerk, cb.total(), 1e-9 * cb.total());
+}
+
 TEST(PieceWindows, WindowProblemGradientMatchesCentralDifferences) {
   // The window's cut states enter as constants: the analytic gradient of the window's problem
-  // (its interior waypoints, times and time scale) against central differences.
+  // (its interior waypoints, times and time scale; the cut-jerk pull included) against central
+  // differences.
   const Solved s = solve(midend::testing::forest_slalom(60));
   const PieceWindow m = longest_moving_segment(s.solution.reference);
   ASSERT_GE(m.size(), 8);
   const PieceWindow w{m.first + 2, m.first + 7};
-  const std::optional<midend::ReferencePath> ref = window_reference(s.solution.reference, s.trajectory, w);
+  const std::optional<midend::ReferencePath> ref = window_reference(s.solution.reference, s.trajectory, w, 100.0);
   ASSERT_TRUE(ref);
   midend::MidendProblem part(*ref, midend::MidendLimits::from_robot(midend::testing::scout_mini_piper_model()),
                              s.solution.settings);
@@ -197,8 +232,10 @@ TEST(PieceWindows, WindowProblemGradientMatchesCentralDifferences) {
   std::normal_distribution<double> N(0.0, 0.02);
   for (int k = 0; k < x.size(); ++k) x[k] += N(rng);  // off the optimum: every term pulls
   Eigen::VectorXd g(x.size());
-  const double f = part.evaluate(x, &g, nullptr);
+  midend::CostBreakdown parts;
+  const double f = part.evaluate(x, &g, &parts);
   ASSERT_TRUE(std::isfinite(f));
+  ASSERT_GT(parts.cut_jerk, 0.0) << "the pull is active";
   const double h = 1e-6;
   for (int k = 0; k < x.size(); ++k) {
     Eigen::VectorXd xp = x, xm = x;

@@ -56,9 +56,9 @@ struct BackendResult {
   int num_pieces = 0;
   int num_variables = 0;
 
-  /// At the warm start and at the returned trajectory. With piece windows, those of the last
-  /// window problem solved (its pieces only), unless the whole problem followed (then its final
-  /// cost and the first window's initial cost).
+  /// At the warm start and at the returned trajectory. With piece windows: the initial cost is
+  /// the first window problem's (its pieces only), the final cost the last window problem's, or
+  /// the whole problem's when it followed the windows.
   BackendCost initial_cost;
   BackendCost final_cost;
 

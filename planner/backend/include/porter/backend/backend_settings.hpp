@@ -74,6 +74,14 @@ struct BackendSettings {
   /// When the windows cover more than this fraction of the pieces, the whole problem is solved
   /// instead: windows that large save little J_s and take away the freedom of the rest. (0, 1].
   double window_max_fraction = 0.5;
+  /// Weight of the window problem's pull on the base's jerk at a cut towards the held side's,
+  /// per (m/s^3)^2 (piece_window.hpp "Cuts"). >= 0; 0: the jerk may jump at a cut. Why 100: on
+  /// the six runs (forest seeds 1, 5, 11, 12, 16, tunnel seed 14) whose wheel accelerations were
+  /// 7-27 % over their limit at a cut without it, 100 left none over at a cut (4 of 6 succeeded
+  /// against 1 of 6), 1e4 none either but held the windows so stiffly that 3 of 6 ran out of
+  /// budget. A jump of 0.1 m/s^3 then costs 1, about a nearly free window's J_s, so the pull
+  /// matters where the jump is large and gives way to J_s where the escape needs it.
+  double window_cut_jerk_weight = 100.0;
 };
 
 }  // namespace porter::backend

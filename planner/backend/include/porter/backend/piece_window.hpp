@@ -22,6 +22,12 @@
 // the window's pieces replace the originals; the whole trajectory stays C^2 at the cuts (the end
 // states are the held ones); jerk and higher may jump there.
 // The fixed pieces' penalties are constants of the window's problem: they are not evaluated.
+// Cuts: a window's pieces are quintics that hold position, velocity and acceleration at each cut,
+// not the jerk, so the base's jerk may jump there and with it the yaw acceleration and the wheel
+// accelerations (measured before the term below: wheel accelerations 7-27 % over their limit at
+// cuts on forest). With a weight > 0 the window's problem pulls the base's jerk at each cut towards
+// the held side's (ReferencePath::cut_jerk_weight; zero at a window's first evaluation, since the
+// whole trajectory is C^4 there).
 //
 // Pure functions; thread-safe.
 
@@ -56,8 +62,10 @@ PieceWindow grow_window(const PieceWindow& w, const midend::ReferencePath& refer
 
 /// The mid-end reference of window `w` of `current` (a trajectory of `reference`; header comment),
 /// nullopt when w is empty, crosses a segment boundary or lies on a still segment.
+/// `cut_jerk_weight`: ReferencePath::cut_jerk_weight (header comment "Cuts").
 std::optional<midend::ReferencePath> window_reference(const midend::ReferencePath& reference,
-                                                      const Trajectory& current, const PieceWindow& w);
+                                                      const Trajectory& current, const PieceWindow& w,
+                                                      double cut_jerk_weight = 0.0);
 
 /// Pieces [w.first, w.last) of `t` as a trajectory of their own, starting at t's heading there.
 std::optional<Trajectory> cut_window(const Trajectory& t, const PieceWindow& w);

@@ -197,6 +197,7 @@ class MidendProblem {
   bool build_segment(int s, const double* x);
   double piece_penalty(int s, int i, CostBreakdown* breakdown);
   double boundary_heading(int s, bool at_start, CostBreakdown* breakdown);
+  double cut_jerk(int s, bool at_start, const Eigen::Vector2d& held, CostBreakdown* breakdown);
   double rest_rates(int s, bool at_start, CostBreakdown* breakdown);
   double extra_cost(const double* x, bool want_grad, CostBreakdown* breakdown);
 
