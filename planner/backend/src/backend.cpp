@@ -331,7 +331,9 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
         BackendProblem sub(*ref, limits_, warm_start.settings, safety, self_collision);
         Eigen::VectorXd xs;
         midend::LbfgsDriver driver(sub.num_variables());
-        if (!driver.ok() || !sub.midend().decision_from_trajectory(*cut, xs)) {
+        // A grown window may hold an earlier window's cuts, where the spliced trajectory is only
+        // C^2: its problem then starts from the quintics through the same waypoints and times.
+        if (!driver.ok() || !sub.midend().decision_from_trajectory(*cut, xs, false)) {
           fallback = true;
           break;
         }
@@ -395,7 +397,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
     if (use && fallback && !stop && !deadline.expired()) {
       // The whole problem from the spliced trajectory.
       Eigen::VectorXd x;
-      if (problem.midend().decision_from_trajectory(*current, x)) {
+      if (problem.midend().decision_from_trajectory(*current, x, false)) {
         x_full = x;
         r.window_fallback = true;
       } else {

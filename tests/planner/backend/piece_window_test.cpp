@@ -174,6 +174,34 @@ TEST(PieceWindows, AWindowsSolutionSplicedBackHoldsEveryOtherPieceAndJoinsC2) {
       EXPECT_LT((a - b).norm(), 1e-9 * (1.0 + a.norm())) << "cut before piece " << cut_at << ", order " << order;
     }
   }
+  // A window grown over these cuts holds a trajectory MINCO cannot express (C^2, not C^4, at the
+  // old cuts): the exact map back fails, the inexact one gives the quintics through the same
+  // waypoints and times, with the new cuts' states.
+  const PieceWindow grown{w.first - 1, w.last + 1};
+  const std::optional<midend::ReferencePath> gref = window_reference(s.solution.reference, *spliced, grown);
+  ASSERT_TRUE(gref);
+  midend::MidendProblem gpart(*gref, midend::MidendLimits::from_robot(midend::testing::scout_mini_piper_model()),
+                              s.solution.settings);
+  const std::optional<Trajectory> gcut = cut_window(*spliced, grown);
+  ASSERT_TRUE(gcut);
+  Eigen::VectorXd xg;
+  EXPECT_FALSE(gpart.decision_from_trajectory(*gcut, xg));
+  ASSERT_TRUE(gpart.decision_from_trajectory(*gcut, xg, false));
+  const std::vector<TrajectoryPiece> smooth = gpart.pieces(xg.data());
+  ASSERT_EQ(static_cast<int>(smooth.size()), grown.size());
+  for (int i = 0; i < grown.size(); ++i) {
+    const TrajectoryPiece& a = smooth[static_cast<std::size_t>(i)];
+    const TrajectoryPiece& b = gcut->piece(i);
+    EXPECT_NEAR(a.duration_s, b.duration_s, 1e-9 * b.duration_s) << "piece " << i;
+    EXPECT_LT((piece_derivative(a.coeffs, 0.0, 0) - piece_derivative(b.coeffs, 0.0, 0)).norm(), 1e-9) << "piece " << i;
+  }
+  for (int order = 0; order <= 2; ++order) {
+    const TrajectoryPiece& a = smooth.back();
+    const TrajectoryPiece& b = gcut->piece(grown.size() - 1);
+    EXPECT_LT((piece_derivative(a.coeffs, a.duration_s, order) - piece_derivative(b.coeffs, b.duration_s, order)).norm(),
+              1e-9 * (1.0 + piece_derivative(b.coeffs, b.duration_s, order).norm()))
+        << "end state, order " << order;
+  }
   // The heading is continuous there too (the base moves along the same velocity).
   for (const int cut_at : {w.first, w.last}) {
     const double t = spliced->piece_start_time_s(cut_at);

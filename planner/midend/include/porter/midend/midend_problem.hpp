@@ -163,7 +163,11 @@ class MidendProblem {
   /// gear states read from the pieces, tau from their durations. False when the piece count or a
   /// piece's eta differs, or when pieces() does not map the result back to the same pieces
   /// (within 1e-6 relative).
-  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x);
+  /// With exact = false the map back is not compared: x then describes the problem's trajectory
+  /// through the same waypoints, gear states and piece durations (for a trajectory this problem
+  /// cannot express exactly, e.g. one whose pieces join only C^2; false still when the piece count
+  /// or an eta differs, or x describes no trajectory).
+  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x, bool exact = true);
 
   /// The pieces x describes, segment after segment (eta per piece). Empty if x is unusable.
   std::vector<TrajectoryPiece> pieces(const double* x);
