@@ -307,6 +307,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
   Eigen::VectorXd x_full = warm_start.x;
   bool windows_done = false;  ///< every window passed: the spliced trajectory is the answer
   bool stop = false;          ///< budget or cancellation ended the windows
+  bool capped = false;        ///< the iteration cap (over every window) ended them
   if (settings_.window_grow_pieces > 0 && acceptance) {
     const auto t_loc = Clock::now();
     const std::vector<bool> flagged = flag_pieces(*initial, *acceptance);
@@ -321,6 +322,10 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
       PieceWindow w = windows[k];
       int grow = settings_.window_grow_pieces;
       for (;;) {
+        if (r.iterations >= settings_.max_iterations) {
+          capped = stop = true;
+          break;
+        }
         const auto t_prep = Clock::now();
         const std::optional<midend::ReferencePath> ref = window_reference(warm_start.reference, *current, w, settings_.window_cut_jerk_weight);
         const std::optional<Trajectory> cut = cut_window(*current, w);
@@ -349,7 +354,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
         ctx.use_cutoff = settings_.skip_safety_above_current && settings_.line_search != midend::LineSearch::kMoreThuente;
         const auto t_opt = Clock::now();
         const Rounds rounds = run_rounds(settings_, sub, safety, driver, ctx, deadline, acceptance,
-                                         std::max(1, settings_.max_iterations - r.iterations));
+                                         settings_.max_iterations - r.iterations);
         r.optimize_s += seconds_since(t_opt);
         add_counters(r, ctx);
         r.iterations += rounds.iterations;
@@ -374,6 +379,10 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
         }
         if (deadline.expired() || rounds.run.stop == midend::LbfgsStop::kDeadline || driver.expired_in_line_search()) {
           stop = true;
+          break;
+        }
+        if (r.iterations >= settings_.max_iterations) {
+          capped = stop = true;
           break;
         }
         // Not solvable with these pieces: more room on each side, up to the whole segment.
@@ -405,9 +414,12 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
       }
     }
     if (use && (stop || windows_done)) {
-      r.status = windows_done ? planner::Status::kConverged : planner::Status::kTimeout;
+      r.status = windows_done ? planner::Status::kConverged
+                 : capped     ? planner::Status::kIterationLimit
+                              : planner::Status::kTimeout;
       r.message = std::string("piece windows: ") + std::to_string(r.window_solves) + " solve(s) over " +
-                  std::to_string(r.window_pieces) + " pieces" + (windows_done ? ", all accepted" : ", budget ended");
+                  std::to_string(r.window_pieces) + " pieces" +
+                  (windows_done ? ", all accepted" : capped ? ", iteration cap reached" : ", budget ended");
       r.trajectory = current;
       if (windows_done) {  // checked just above
         r.check = SafetyCheck::kCollisionFree;
