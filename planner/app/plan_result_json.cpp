@@ -136,6 +136,11 @@ json backend_json(const pipeline::BackendReport& run, const std::string& checker
            {"safety_skips", r.safety_skips},
            {"num_pieces", r.num_pieces},
            {"num_variables", r.num_variables},
+           {"window_flagged", r.window_flagged},
+           {"window_solves", r.window_solves},
+           {"window_pieces", r.window_pieces},
+           {"window_fallback", r.window_fallback},
+           {"window_localise_ms", r.window_localise_s * 1e3},
            {"final_check", std::move(check)},
            {"initial_cost", cost_json(r.initial_cost)},
            {"final_cost", r.ok() ? cost_json(r.final_cost) : json(nullptr)}};

@@ -12,6 +12,7 @@
 #include "porter/midend/lbfgs_codes.hpp"
 #include "porter/midend/lbfgs_driver.hpp"
 #include "porter/midend/midend.hpp"
+#include "porter/backend/piece_window.hpp"
 
 namespace porter::backend {
 namespace {
@@ -158,6 +159,84 @@ bool is_stop_code(int code) {
   return code == LBFGS_SUCCESS || code == LBFGS_STOP || code == LBFGS_ALREADY_MINIMIZED;
 }
 
+/// How a sequence of L-BFGS rounds on one problem ended.
+struct Rounds {
+  midend::LbfgsDriver::Run run;
+  int iterations = 0;
+  int rounds = 0;
+  int escalations = 0;
+  double weight_scale = 1.0;
+  bool escalation_cut = false;  ///< the budget ended before an escalation the re-check called for
+};
+
+/// Rounds: L-BFGS from the driver's point; when it stops short of the budget with the re-check
+/// still failing, the safety weight is raised and it continues (see BackendSettings). Each round
+/// starts with the safety term's decisions refreshed (its cost is continuous within a round).
+/// `max_iterations` caps the iterations over all rounds.
+Rounds run_rounds(const BackendSettings& settings, BackendProblem& problem, SafetyTerm& safety,
+                  midend::LbfgsDriver& driver, SolveContext& ctx, const planner::Deadline& deadline,
+                  const planner::TrajectoryAcceptance* acceptance, int max_iterations) {
+  const int n = problem.num_variables();
+  const double scale = settings.variable_scale;
+  lbfgs_parameter_t param = midend::lbfgs_parameters(settings);
+  const midend::LbfgsDriver::Objective objective = [&ctx, n](const double* x, double* g) {
+    return backend::objective(ctx, x, g, n);
+  };
+  const midend::LbfgsDriver::Monitor watch = [&ctx](const double* x, double fx, int k) {
+    return monitor(ctx, x, fx, k);
+  };
+  Rounds out;
+  for (;;) {
+    problem.set_safety_scale(out.weight_scale);
+    safety.refresh_decisions();
+    if (settings.probe_first_step) first_step_scale(ctx, driver, scale);
+    ctx.best_f = std::numeric_limits<double>::infinity();
+    ctx.current_f = std::numeric_limits<double>::infinity();
+    param.max_iterations = max_iterations - out.iterations;
+    out.run = driver.run(param, objective, watch, deadline);
+    out.iterations += out.run.iterations;
+    ++out.rounds;
+    if (ctx.found_free || out.run.stop == midend::LbfgsStop::kDeadline || out.run.stop == midend::LbfgsStop::kCanceled ||
+        driver.expired_in_line_search())
+      break;
+    if (!acceptance) break;
+    if (out.escalations >= settings.max_weight_escalations || !std::isfinite(out.run.f)) break;
+    if (deadline.expired()) {
+      out.escalation_cut = true;  // the round ended just as the budget did
+      break;
+    }
+    if (out.iterations >= max_iterations) break;
+    const bool stopped = is_stop_code(out.run.code) || out.run.code == LBFGSERR_MAXIMUMITERATION ||
+                         midend::lbfgs_code_is_stall(out.run.code);
+    if (!stopped) break;
+    const Eigen::VectorXd x_round = driver.x();
+    const auto t_check = Clock::now();
+    const std::optional<Trajectory> traj = problem.trajectory(x_round.data());
+    ++ctx.rechecks;
+    const bool free = traj && acceptance->check(*traj).accepted;
+    ctx.check_s += seconds_since(t_check);
+    if (free) {
+      ctx.found_free = true;
+      break;
+    }
+    out.weight_scale *= settings.weight_escalation_factor;
+    ++out.escalations;
+  }
+  return out;
+}
+
+/// Adds one solve's counters to the result.
+void add_counters(BackendResult& r, const SolveContext& ctx) {
+  r.evaluations += ctx.evaluations;
+  r.safety_s += ctx.safety_s;
+  r.safety_prefilter_s += ctx.prefilter_s;
+  r.self_collision_s += ctx.self_s;
+  r.rechecks += ctx.rechecks;
+  r.probe_evaluations += ctx.probes;
+  r.safety_skips += ctx.skipped;
+  r.recheck_s += ctx.check_s;
+}
+
 }  // namespace
 
 bool validate_settings(const BackendSettings& s, std::string* why) {
@@ -173,6 +252,9 @@ bool validate_settings(const BackendSettings& s, std::string* why) {
   if (s.recheck_every_iterations < 0) return fail("recheck_every_iterations must be >= 0");
   if (!(s.weight_escalation_factor >= 1.0) || !std::isfinite(s.weight_escalation_factor)) return fail("weight_escalation_factor must be >= 1");
   if (s.max_weight_escalations < 0) return fail("max_weight_escalations must be >= 0");
+  if (s.window_grow_pieces < 0) return fail("window_grow_pieces must be >= 0");
+  if (!(s.window_max_fraction > 0.0 && s.window_max_fraction <= 1.0)) return fail("window_max_fraction not in (0, 1]");
+  if (!(s.window_cut_jerk_weight >= 0.0) || !std::isfinite(s.window_cut_jerk_weight)) return fail("window_cut_jerk_weight must be >= 0");
   return true;
 }
 
@@ -216,9 +298,151 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
     finish(r, acceptance, start);
     return r;
   }
-  safety.prepare(map_W, *initial);
-  if (self_collision) self_collision->prepare(*initial);
-  r.prepare_s = seconds_since(start);
+
+  r.rounds = 0;
+  // Piece windows (piece_window.hpp, BackendSettings::window_grow_pieces): the pieces around the
+  // places the acceptance test rejects are optimized with the rest held; the whole problem follows
+  // only when a window cannot be solved on its own.
+  std::optional<Trajectory> current = initial;
+  Eigen::VectorXd x_full = warm_start.x;
+  bool windows_done = false;  ///< every window passed: the spliced trajectory is the answer
+  bool stop = false;          ///< budget or cancellation ended the windows
+  bool capped = false;        ///< the iteration cap (over every window) ended them
+  if (settings_.window_grow_pieces > 0 && acceptance) {
+    const auto t_loc = Clock::now();
+    const std::vector<bool> flagged = flag_pieces(*initial, *acceptance);
+    std::vector<PieceWindow> windows = windows_around(flagged, warm_start.reference, settings_.window_grow_pieces);
+    int covered = 0;
+    for (const PieceWindow& w : windows) covered += w.size();
+    r.window_localise_s = seconds_since(t_loc);
+    r.window_flagged = static_cast<int>(std::count(flagged.begin(), flagged.end(), true));
+    const bool use = !windows.empty() && covered <= settings_.window_max_fraction * problem.num_pieces();
+    bool fallback = !use;
+    for (std::size_t k = 0; use && k < windows.size() && !stop && !fallback; ++k) {
+      PieceWindow w = windows[k];
+      int grow = settings_.window_grow_pieces;
+      for (;;) {
+        if (r.iterations >= settings_.max_iterations) {
+          capped = stop = true;
+          break;
+        }
+        const auto t_prep = Clock::now();
+        const std::optional<midend::ReferencePath> ref = window_reference(warm_start.reference, *current, w, settings_.window_cut_jerk_weight);
+        const std::optional<Trajectory> cut = cut_window(*current, w);
+        if (!ref || !cut) {
+          fallback = true;
+          break;
+        }
+        BackendProblem sub(*ref, limits_, warm_start.settings, safety, self_collision);
+        Eigen::VectorXd xs;
+        midend::LbfgsDriver driver(sub.num_variables());
+        // A grown window may hold an earlier window's cuts, where the spliced trajectory is only
+        // C^2: its problem then starts from the quintics through the same waypoints and times.
+        if (!driver.ok() || !sub.midend().decision_from_trajectory(*cut, xs, false)) {
+          fallback = true;
+          break;
+        }
+        safety.prepare(map_W, *cut);
+        if (self_collision) self_collision->prepare(*cut);
+        r.prepare_s += seconds_since(t_prep);
+        driver.set_x(xs, settings_.variable_scale);
+        driver.set_stop_in_line_search(true);
+        SolveContext ctx;
+        ctx.problem = &sub;
+        ctx.acceptance = acceptance;
+        ctx.recheck_every = settings_.recheck_every_iterations;
+        ctx.use_cutoff = settings_.skip_safety_above_current && settings_.line_search != midend::LineSearch::kMoreThuente;
+        const auto t_opt = Clock::now();
+        const Rounds rounds = run_rounds(settings_, sub, safety, driver, ctx, deadline, acceptance,
+                                         settings_.max_iterations - r.iterations);
+        r.optimize_s += seconds_since(t_opt);
+        add_counters(r, ctx);
+        r.iterations += rounds.iterations;
+        r.rounds += rounds.rounds;
+        r.lbfgs_code = rounds.run.code;
+        r.safety_weight_scale = rounds.weight_scale;
+        if (r.window_solves == 0 && ctx.have_initial) r.initial_cost = ctx.initial;
+        ++r.window_solves;
+        r.window_pieces += w.size();
+        r.final_cost = ctx.best;
+        // The window's last iterate is kept even when it does not pass yet (its cost is lower).
+        const Eigen::VectorXd xw = driver.x();
+        if (const std::optional<Trajectory> tw = sub.trajectory(xw.data())) {
+          if (std::optional<Trajectory> spliced = splice(*current, w, *tw)) current = std::move(spliced);
+        }
+        if (ctx.found_free) break;  // this window passes: the next one
+        if (rounds.run.stop == midend::LbfgsStop::kCanceled || deadline.canceled()) {
+          r.status = planner::Status::kCanceled;
+          r.message = "canceled";
+          finish(r, acceptance, start);
+          return r;
+        }
+        if (deadline.expired() || rounds.run.stop == midend::LbfgsStop::kDeadline || driver.expired_in_line_search()) {
+          stop = true;
+          break;
+        }
+        if (r.iterations >= settings_.max_iterations) {
+          capped = stop = true;
+          break;
+        }
+        // Not solvable with these pieces: more room on each side, up to the whole segment.
+        const PieceWindow wider = grow_window(w, warm_start.reference, grow);
+        if (wider == w) {
+          fallback = true;
+          break;
+        }
+        w = wider;
+        grow *= 2;
+      }
+    }
+    double done_check_s = 0.0;
+    if (use && !stop && !fallback) {
+      // Every window passed on its own and every other piece did at the start: the whole.
+      const auto t_check = Clock::now();
+      windows_done = acceptance->check(*current).accepted;
+      done_check_s = seconds_since(t_check);
+      fallback = !windows_done;
+    }
+    if (use && fallback && !stop && !deadline.expired()) {
+      // The whole problem from the spliced trajectory.
+      Eigen::VectorXd x;
+      if (problem.midend().decision_from_trajectory(*current, x, false)) {
+        x_full = x;
+        r.window_fallback = true;
+      } else {
+        current = initial;  // cannot be expressed in the whole problem: its own warm start
+      }
+    }
+    if (use && (stop || windows_done)) {
+      r.status = windows_done ? planner::Status::kConverged
+                 : capped     ? planner::Status::kIterationLimit
+                              : planner::Status::kTimeout;
+      r.message = std::string("piece windows: ") + std::to_string(r.window_solves) + " solve(s) over " +
+                  std::to_string(r.window_pieces) + " pieces" +
+                  (windows_done ? ", all accepted" : capped ? ", iteration cap reached" : ", budget ended");
+      r.trajectory = current;
+      if (windows_done) {  // checked just above
+        r.check = SafetyCheck::kCollisionFree;
+        r.check_s = done_check_s;
+        r.elapsed_s = seconds_since(start);
+        return r;
+      }
+      finish(r, acceptance, start);
+      return r;
+    }
+  }
+
+  const auto t_prep = Clock::now();
+  const std::optional<Trajectory> whole = problem.trajectory(x_full.data());
+  if (!whole) {
+    r.status = planner::Status::kNumericalFailure;
+    r.message = "the spliced trajectory describes no trajectory of the whole problem";
+    finish(r, acceptance, start);
+    return r;
+  }
+  safety.prepare(map_W, *whole);
+  if (self_collision) self_collision->prepare(*whole);
+  r.prepare_s += r.window_solves > 0 ? seconds_since(t_prep) : seconds_since(start);
   const int n = problem.num_variables();
   midend::LbfgsDriver driver(n);
   if (!driver.ok()) {
@@ -227,84 +451,27 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
     finish(r, acceptance, start);
     return r;
   }
-  const double scale = settings_.variable_scale;
-  driver.set_x(warm_start.x, scale);
+  driver.set_x(x_full, settings_.variable_scale);
   driver.set_stop_in_line_search(true);
-  lbfgs_parameter_t param = midend::lbfgs_parameters(settings_);
 
   SolveContext ctx;
   ctx.problem = &problem;
   ctx.acceptance = acceptance;
   ctx.recheck_every = settings_.recheck_every_iterations;
   ctx.use_cutoff = settings_.skip_safety_above_current && settings_.line_search != midend::LineSearch::kMoreThuente;
-  const midend::LbfgsDriver::Objective objective = [&ctx, n](const double* x, double* g) {
-    return backend::objective(ctx, x, g, n);
-  };
-  const midend::LbfgsDriver::Monitor watch = [&ctx](const double* x, double fx, int k) {
-    return monitor(ctx, x, fx, k);
-  };
   const auto t_opt = Clock::now();
-  midend::LbfgsDriver::Run run;
-  int iterations = 0;
-  // Rounds: L-BFGS from the current iterate; when it stops short of the budget with the re-check
-  // still failing, the safety weight is raised and it continues (see BackendSettings). Each round
-  // starts with the safety term's decisions refreshed (its cost is continuous within a round).
-  double weight_scale = 1.0;
-  int rounds = 0;
-  int escalations = 0;
-  bool escalation_cut = false;  ///< the budget ended before an escalation the re-check called for
-  for (;;) {
-    problem.set_safety_scale(weight_scale);
-    safety.refresh_decisions();
-    if (settings_.probe_first_step) first_step_scale(ctx, driver, scale);
-    ctx.best_f = std::numeric_limits<double>::infinity();
-    ctx.current_f = std::numeric_limits<double>::infinity();
-    param.max_iterations = settings_.max_iterations - iterations;  // the cap is over all rounds
-    run = driver.run(param, objective, watch, deadline);
-    iterations += run.iterations;
-    ++rounds;
-    if (ctx.found_free || run.stop == midend::LbfgsStop::kDeadline || run.stop == midend::LbfgsStop::kCanceled ||
-        driver.expired_in_line_search())
-      break;
-    if (!acceptance) break;
-    if (escalations >= settings_.max_weight_escalations || !std::isfinite(run.f)) break;
-    if (deadline.expired()) {
-      escalation_cut = true;  // the round ended just as the budget did
-      break;
-    }
-    if (iterations >= settings_.max_iterations) break;
-    const bool stopped = is_stop_code(run.code) || run.code == LBFGSERR_MAXIMUMITERATION ||
-                         midend::lbfgs_code_is_stall(run.code);
-    if (!stopped) break;
-    const Eigen::VectorXd x_round = driver.x();
-    const auto t_check = Clock::now();
-    const std::optional<Trajectory> traj = problem.trajectory(x_round.data());
-    ++ctx.rechecks;
-    const bool free = traj && acceptance->check(*traj).accepted;
-    ctx.check_s += seconds_since(t_check);
-    if (free) {
-      ctx.found_free = true;
-      break;
-    }
-    weight_scale *= settings_.weight_escalation_factor;
-    ++escalations;
-  }
+  const Rounds rounds = run_rounds(settings_, problem, safety, driver, ctx, deadline, acceptance,
+                                   std::max(1, settings_.max_iterations - r.iterations));
+  const midend::LbfgsDriver::Run& run = rounds.run;
   const int code = run.code;
   const double fx = run.f;
-  r.optimize_s = seconds_since(t_opt);
+  r.optimize_s += seconds_since(t_opt);
   r.lbfgs_code = code;
-  r.iterations = iterations;
-  r.evaluations = ctx.evaluations;
-  r.safety_s = ctx.safety_s;
-  r.safety_prefilter_s = ctx.prefilter_s;
-  r.self_collision_s = ctx.self_s;
-  r.rechecks = ctx.rechecks;
-  r.probe_evaluations = ctx.probes;
-  r.safety_skips = ctx.skipped;
-  r.recheck_s = ctx.check_s;
-  r.rounds = rounds;
-  r.safety_weight_scale = weight_scale;
-  r.initial_cost = ctx.initial;
+  r.iterations += rounds.iterations;
+  add_counters(r, ctx);
+  r.rounds += rounds.rounds;
+  r.safety_weight_scale = rounds.weight_scale;
+  if (r.window_solves == 0) r.initial_cost = ctx.initial;
   const bool canceled = run.stop == midend::LbfgsStop::kCanceled || deadline.canceled();
   const double f0 = ctx.initial.total();
   if (canceled) {
@@ -329,23 +496,24 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
   } else {
     f1 = problem.evaluate(x1.data(), nullptr, &r.final_cost);
   }
-  const std::string detail = std::string("lbfgs: ") + midend::lbfgs_code_to_string(code);
+  std::string detail = std::string("lbfgs: ") + midend::lbfgs_code_to_string(code);
+  if (r.window_fallback) detail = "whole problem after " + std::to_string(r.window_solves) + " piece-window solve(s); " + detail;
   if (!std::isfinite(f1)) {
     r.status = planner::Status::kNumericalFailure;
     r.message = detail + "; final cost is not finite";
-  } else if (escalation_cut) {
+  } else if (rounds.escalation_cut) {
     // L-BFGS converged at this weight, but the solve would have raised it had the budget allowed:
     // report the budget, not convergence (the re-check below decides success either way).
     r.status = planner::Status::kTimeout;
     r.message = detail + "; the budget ended before the safety weight could be raised";
-    if (escalations > 0) r.message += " (weight x" + std::to_string(static_cast<int>(weight_scale)) + ")";
+    if (rounds.escalations > 0) r.message += " (weight x" + std::to_string(static_cast<int>(rounds.weight_scale)) + ")";
   } else if (is_stop_code(code) || (code == LBFGSERR_CANCELED && ctx.found_free)) {
     r.status = planner::Status::kConverged;
   } else if ((code == LBFGSERR_CANCELED && run.stop == midend::LbfgsStop::kDeadline) || driver.expired_in_line_search()) {
     r.status = planner::Status::kTimeout;
   } else if (code == LBFGSERR_MAXIMUMITERATION) {
     r.status = planner::Status::kIterationLimit;
-  } else if (midend::lbfgs_code_is_stall(code) && (f1 < f0 || rounds > 1)) {
+  } else if (midend::lbfgs_code_is_stall(code) && (f1 < f0 || rounds.rounds > 1 || r.window_solves > 0)) {
     r.status = planner::Status::kConvergedWithWarning;
   } else {
     r.status = planner::Status::kOptimizerFailed;
@@ -353,7 +521,7 @@ BackendResult BackEnd::solve(const midend::MidendSolution& warm_start, const Occ
   if (r.message.empty()) {
     r.message = detail;
     if (ctx.found_free) r.message += " (kernel re-check passed: stopped there)";
-    if (escalations > 0) r.message += "; safety weight x" + std::to_string(static_cast<int>(weight_scale));
+    if (rounds.escalations > 0) r.message += "; safety weight x" + std::to_string(static_cast<int>(rounds.weight_scale));
   }
   if (has_trajectory(r.status)) {
     std::optional<Trajectory> traj = problem.trajectory(x1.data());

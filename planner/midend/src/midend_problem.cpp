@@ -76,8 +76,8 @@ MidendProblem::MidendProblem(ReferencePath reference, const MidendLimits& limits
     // The base rests at the global start (unless the start state moves it) and goal and where a
     // still segment begins or ends. No speed is kept on the piece leaving the global start.
     l.rest_start = !l.still && (s == 0 ? reference_.start.base_at_rest() : reference_.segments[s - 1].base_still);
-    l.rest_end = !l.still && (s + 1 == num_segments || reference_.segments[s + 1].base_still);
-    if (l.rest_start || s == 0) l.min_speed.front() = 0.0;
+    l.rest_end = !l.still && (s + 1 == num_segments ? reference_.end.base_at_rest() : reference_.segments[s + 1].base_still);
+    if (l.rest_start || (s == 0 && !reference_.cut_start_position)) l.min_speed.front() = 0.0;
     if (l.rest_end) l.min_speed.back() = 0.0;
   }
   gear_layout_.resize(num_segments > 0 ? num_segments - 1 : 0);
@@ -177,14 +177,16 @@ bool MidendProblem::build_segment(int s, const double* x) {
   Minco::BoundaryState head = Minco::BoundaryState::Zero();
   Minco::BoundaryState tail = Minco::BoundaryState::Zero();
   if (s == 0) {
-    head.col(0) = node_vector(seg.nodes.front());
+    head.col(0) = reference_.cut_start_position ? *reference_.cut_start_position : node_vector(seg.nodes.front());
     head.col(1) = reference_.start.velocity;
     head.col(2) = reference_.start.acceleration;
   } else {
     gear_state(s - 1, head);
   }
   if (s + 1 == num_segments) {
-    tail.col(0) = node_vector(seg.nodes.back());
+    tail.col(0) = reference_.cut_end_position ? *reference_.cut_end_position : node_vector(seg.nodes.back());
+    tail.col(1) = reference_.end.velocity;
+    tail.col(2) = reference_.end.acceleration;
   } else {
     gear_state(s, tail);
   }
@@ -282,6 +284,25 @@ double MidendProblem::boundary_heading(int s, bool at_start, CostBreakdown* brea
     grad_t_[s][i] += dj.dot(snap);
   }
   if (breakdown) breakdown->boundary_heading += cost;
+  return cost;
+}
+
+double MidendProblem::cut_jerk(int s, bool at_start, const Eigen::Vector2d& held, CostBreakdown* breakdown) {
+  const int i = at_start ? 0 : segment_layout_[s].pieces - 1;
+  const double t = at_start ? 0.0 : durations_[s][i];
+  const auto c = minco_[s].piece(i);
+  const minco::Basis b3 = minco::basis(t, 3);
+  const Eigen::Vector2d d = c.leftCols<2>().transpose() * b3 - held;
+  const double w = reference_.cut_jerk_weight;
+  const double cost = w * d.squaredNorm();
+  const Eigen::Vector2d dj = 2.0 * w * d;
+  auto gc = grad_c_[s].middleRows<minco::kPieceCoeffs>(minco::kPieceCoeffs * i);
+  gc.leftCols<2>().noalias() += b3 * dj.transpose();
+  if (!at_start) {
+    const Eigen::Vector2d snap = c.leftCols<2>().transpose() * minco::basis(t, 4);
+    grad_t_[s][i] += dj.dot(snap);
+  }
+  if (breakdown) breakdown->cut_jerk += cost;
   return cost;
 }
 
@@ -389,6 +410,10 @@ double MidendProblem::evaluate(const double* x, double* grad, CostBreakdown* bre
     if ((terms_ & kTermBoundaryHeading) && settings_.weight_boundary_heading > 0.0) {
       if (l.rest_start) boundary_heading(s, true, &b);
       if (l.rest_end) boundary_heading(s, false, &b);
+    }
+    if ((terms_ & kTermBoundaryHeading) && reference_.cut_jerk_weight > 0.0) {
+      if (s == 0 && reference_.cut_start_base_jerk) cut_jerk(s, true, *reference_.cut_start_base_jerk, &b);
+      if (s + 1 == num_segments && reference_.cut_end_base_jerk) cut_jerk(s, false, *reference_.cut_end_base_jerk, &b);
     }
   }
   extra_skipped_ = false;

@@ -91,10 +91,14 @@ void load_backend_yaml(const std::string& file, PlannerSettings& s) {
     f.flag("skip_safety_above_current", b.skip_safety_above_current);
   }
   {
-    const Fields f(top.section("recheck"), {"every_iterations", "weight_escalation_factor", "max_weight_escalations"});
+    const Fields f(top.section("recheck"), {"every_iterations", "weight_escalation_factor", "max_weight_escalations",
+                                            "window_grow_pieces", "window_max_fraction", "window_cut_jerk_weight"});
     f.integer("every_iterations", b.recheck_every_iterations, 0);
     f.number("weight_escalation_factor", b.weight_escalation_factor, 1.0, 1e6);
     f.integer("max_weight_escalations", b.max_weight_escalations, 0, 64);
+    f.integer("window_grow_pieces", b.window_grow_pieces, 0);
+    f.number("window_max_fraction", b.window_max_fraction, 1e-9, 1.0);
+    f.number("window_cut_jerk_weight", b.window_cut_jerk_weight, 0.0, 1e12);
   }
   {
     backend::SvsdfSafetySettings& t = s.safety_terms.svsdf;

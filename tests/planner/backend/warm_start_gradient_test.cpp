@@ -18,11 +18,15 @@
 //  - The self-collision term on a second frozen fixture (bridge h_b 1.1 m seed 12, the first
 //    mid-end solve, data/bridge_h11_seed12_warm_start.json from porter-plan --stages mid at the
 //    commit that added it): without it the back-end clears the deck and leaves link 3 on the base.
+//  - Piece windows (piece_window.hpp): the pieces the kernel check rejects on their own, the
+//    window problem's whole gradient (mid-end terms + J_s over the window) against central
+//    differences, and a windowed solve that passes the check with every other piece held.
 //  - The line-search economies (BackendSettings::probe_first_step, skip_safety_above_current):
 //    the J_s cutoff returns the mid-end terms alone and leaves the iterates unchanged; the probe
 //    makes the first line search shorter.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <fstream>
@@ -34,6 +38,7 @@
 #include "backend_fixtures.hpp"
 #include "porter/backend/backend.hpp"
 #include "porter/backend/backend_problem.hpp"
+#include "porter/backend/piece_window.hpp"
 #include "porter/backend/recheck_margins.hpp"
 #include "porter/backend/self_collision_term.hpp"
 #include "porter/backend/svsdf_safety_term.hpp"
@@ -281,6 +286,7 @@ TEST(BackendWarmStart, TunnelSeed1PointSelectionGivesTheWholeMapsPenaltyAndGradi
 TEST(BackendWarmStart, TunnelSeed1SolveTakesStepsAndComesOutCollisionFree) {
   const TunnelCase tc = tunnel_case();
   BackendSettings bs;
+  bs.window_grow_pieces = 0;  // the whole problem (windows: TunnelSeed1PieceWindows...)
   bs.max_iterations = 80;  // the bound; the budget is generous so that the machine does not matter
   const BackEnd backend(*tc.model, bs);
   SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
@@ -419,6 +425,109 @@ TEST(BackendWarmStart, TunnelSeed1StopAtTheBudgetIsNotReportedAsConvergence) {
   EXPECT_EQ(r.message.find("relative cost"), std::string::npos) << r.message;
   EXPECT_TRUE(r.ok());
   EXPECT_LE(r.iterations, 1);
+}
+
+TEST(BackendWarmStart, TunnelSeed1PieceWindowsAreWhereTheKernelCheckFails) {
+  const TunnelCase tc = tunnel_case();
+  const pipeline::KernelAcceptance acceptance(*tc.checker);
+  const Trajectory& warm = *tc.ws.trajectory;
+  const std::vector<bool> flagged = flag_pieces(warm, acceptance);
+  ASSERT_EQ(static_cast<int>(flagged.size()), warm.num_pieces());
+  const int count = static_cast<int>(std::count(flagged.begin(), flagged.end(), true));
+  EXPECT_GT(count, 0) << "the warm start is in collision";
+  EXPECT_LT(count, warm.num_pieces() / 2) << "the collisions are local";
+  // Every piece the check passes on its own is free over its whole span: those pieces together
+  // pass as one trajectory, and so does each flagged run's complement.
+  for (int i = 0; i < warm.num_pieces(); ++i) {
+    const std::optional<Trajectory> one = cut_window(warm, PieceWindow{i, i + 1});
+    ASSERT_TRUE(one);
+    EXPECT_EQ(!acceptance.check(*one).accepted, flagged[static_cast<std::size_t>(i)]) << "piece " << i;
+  }
+  EXPECT_FALSE(acceptance.check(warm).accepted);
+}
+
+TEST(BackendWarmStart, TunnelSeed1WindowProblemGradientMatchesCentralDifferences) {
+  const TunnelCase tc = tunnel_case();
+  const pipeline::KernelAcceptance acceptance(*tc.checker);
+  const midend::MidendSolution warm = solution_of(tc.ws, *tc.model);
+  const std::vector<PieceWindow> windows = windows_around(flag_pieces(*tc.ws.trajectory, acceptance), warm.reference, 1);
+  ASSERT_FALSE(windows.empty());
+  const PieceWindow w = windows.front();
+  const std::optional<midend::ReferencePath> ref = window_reference(warm.reference, *tc.ws.trajectory, w);
+  const std::optional<Trajectory> cut = cut_window(*tc.ws.trajectory, w);
+  ASSERT_TRUE(ref && cut);
+  SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
+  safety.prepare(tc.grid, *cut);
+  const midend::MidEnd mid(*tc.model);
+  BackendProblem problem(*ref, mid.limits(), warm.settings, safety);
+  Eigen::VectorXd x;
+  ASSERT_TRUE(problem.midend().decision_from_trajectory(*cut, x));
+  const int n = problem.num_variables();
+  Eigen::VectorXd g(n);
+  BackendCost cost;
+  const double f0 = problem.evaluate(x.data(), g.data(), &cost);
+  ASSERT_TRUE(std::isfinite(f0));
+  ASSERT_GT(cost.safety, 1.0) << "the window holds the collision";
+  auto slope = [&](const Eigen::VectorXd& d, double h) {
+    const Eigen::VectorXd xp = x + h * d, xm = x - h * d;
+    return (problem.evaluate(xp.data(), nullptr, nullptr) - problem.evaluate(xm.data(), nullptr, nullptr)) / (2 * h);
+  };
+  // The same tolerances as the whole problem's test above (kinks of the min over t).
+  const Eigen::VectorXd d_steep = -g.normalized();
+  const double fd = slope(d_steep, 1e-6);
+  EXPECT_LT(fd, 0.0);
+  EXPECT_NEAR(fd, g.dot(d_steep), 0.03 * g.norm());
+  std::mt19937 rng(5);
+  std::normal_distribution<double> N(0.0, 1.0);
+  for (int r = 0; r < 3; ++r) {
+    Eigen::VectorXd d(n);
+    for (int k = 0; k < n; ++k) d[k] = N(rng);
+    d.normalize();
+    const double analytic = g.dot(d);
+    EXPECT_NEAR(slope(d, 1e-7), analytic, 0.12 * std::abs(analytic)) << "direction " << r;
+  }
+}
+
+TEST(BackendWarmStart, TunnelSeed1PieceWindowsSolveHoldsEveryOtherPieceAndPassesTheCheck) {
+  const TunnelCase tc = tunnel_case();
+  const pipeline::KernelAcceptance acceptance(*tc.checker);
+  const midend::MidendSolution warm = solution_of(tc.ws, *tc.model);
+  BackendSettings bs;
+  bs.window_grow_pieces = 1;
+  bs.max_iterations = 200;  // the bound; the budget is generous so that the machine does not matter
+  const BackEnd backend(*tc.model, bs);
+  SvsdfSafetyTerm term(*tc.model, *tc.sdf, tc.settings);
+  const BackendResult r = backend.solve(warm, tc.grid, term, planner::Deadline(60.0), &acceptance);
+  ASSERT_TRUE(r.ok()) << to_string(r.status) << ": " << r.message;
+  EXPECT_EQ(r.check, SafetyCheck::kCollisionFree) << r.message;
+  EXPECT_GT(r.window_solves, 0);
+  EXPECT_GT(r.window_flagged, 0);
+  ASSERT_FALSE(r.window_fallback) << r.message;
+  // Outside the windows the answer is the warm start, piece for piece: the windows are those
+  // grown from the flagged pieces, each possibly grown further, so every piece farther than
+  // the pieces the windows optimized is held. Count the pieces that changed.
+  // The warm start as the back-end builds it from the decision vector (the fixture's file holds
+  // the same pieces up to rounding).
+  SvsdfSafetyTerm unused(*tc.model, *tc.sdf, tc.settings);
+  BackendProblem whole(warm.reference, midend::MidendLimits::from_robot(*tc.model), warm.settings, unused);
+  const std::optional<Trajectory> initial = whole.trajectory(warm.x.data());
+  ASSERT_TRUE(initial);
+  const Trajectory& before = *initial;
+  const Trajectory& after = *r.trajectory;
+  ASSERT_EQ(after.num_pieces(), before.num_pieces());
+  int changed = 0;
+  for (int i = 0; i < before.num_pieces(); ++i) {
+    if (after.piece(i).coeffs != before.piece(i).coeffs || after.piece(i).duration_s != before.piece(i).duration_s) ++changed;
+  }
+  EXPECT_GT(changed, 0);
+  EXPECT_LE(changed, r.window_pieces);
+  EXPECT_LT(changed, before.num_pieces() / 2);
+  // The first flagged run's neighbours beyond its window are untouched.
+  const std::vector<PieceWindow> windows = windows_around(flag_pieces(before, acceptance), warm.reference, 1);
+  ASSERT_FALSE(windows.empty());
+  if (windows.front().first > 0) {
+    EXPECT_EQ(after.piece(0).coeffs, before.piece(0).coeffs);
+  }
 }
 
 TEST(BackendWarmStart, BridgeSeed12SelfCollisionTermKeepsTheArmOffTheBase) {

@@ -66,6 +66,8 @@ TEST(PlannerSettingsYaml, TheShippedFilesHoldTheDefaults) {
   EXPECT_EQ(loaded.backend.recheck_every_iterations, defaults.backend.recheck_every_iterations);
   EXPECT_EQ(loaded.backend.weight_escalation_factor, defaults.backend.weight_escalation_factor);
   EXPECT_EQ(loaded.backend.max_weight_escalations, defaults.backend.max_weight_escalations);
+  EXPECT_EQ(loaded.backend.window_grow_pieces, defaults.backend.window_grow_pieces);
+  EXPECT_EQ(loaded.backend.window_max_fraction, defaults.backend.window_max_fraction);
   EXPECT_EQ(loaded.safety_terms.svsdf.weight, defaults.safety_terms.svsdf.weight);
   EXPECT_EQ(loaded.safety_terms.svsdf.threads, defaults.safety_terms.svsdf.threads);
   EXPECT_EQ(loaded.safety_terms.svsdf.freeze_ball_decisions, defaults.safety_terms.svsdf.freeze_ball_decisions);

@@ -3,7 +3,10 @@
 // mid-end's problem plus the safety penalty J_s of a SafetyTerm (KC-SVSDF by default; and a
 // self-collision penalty when the caller gives one, Porter's addition), starting from the mid-end's
 // solution (midend::MidendSolution: its reference path, settings and decision vector), within a
-// deadline; then re-check the answer with the acceptance test.
+// deadline; then re-check the answer with the acceptance test. With an acceptance test, the pieces
+// it rejects (each checked on its own) and their neighbours are optimized first with every other
+// piece held (piece windows: piece_window.hpp, BackendSettings::window_grow_pieces); the whole
+// problem follows only when a window cannot be solved on its own.
 //
 //   BackEnd backend(robot_model);
 //   SvsdfSafetyTerm safety(robot_model, robot_sdf, {});            // or a baseline's term

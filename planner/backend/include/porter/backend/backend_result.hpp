@@ -47,11 +47,20 @@ struct BackendResult {
   int rounds = 1;                   ///< L-BFGS rounds (1 + safety-weight escalations)
   double safety_weight_scale = 1.0; ///< of the last round
   int lbfgs_code = 0;
+  // Piece windows (BackendSettings::window_grow_pieces; all zero / false without them):
+  double window_localise_s = 0.0;   ///< checking each piece of the warm start on its own (part of elapsed_s)
+  int window_flagged = 0;           ///< warm-start pieces the acceptance test rejected on their own
+  int window_solves = 0;            ///< window problems solved (a grown window counts again)
+  int window_pieces = 0;            ///< pieces over those solves
+  bool window_fallback = false;     ///< the whole problem was solved after the windows
   int num_pieces = 0;
   int num_variables = 0;
 
-  BackendCost initial_cost;         ///< at the warm start
-  BackendCost final_cost;           ///< at the returned trajectory
+  /// At the warm start and at the returned trajectory. With piece windows: the initial cost is
+  /// the first window problem's (its pieces only), the final cost the last window problem's, or
+  /// the whole problem's when it followed the windows.
+  BackendCost initial_cost;
+  BackendCost final_cost;
 
   bool ok() const { return has_trajectory(status) && trajectory.has_value(); }
   /// A trajectory that passed the re-check.

@@ -58,6 +58,30 @@ struct BackendSettings {
   /// iterate, at most max_weight_escalations times. >= 1.
   double weight_escalation_factor = 4.0;
   int max_weight_escalations = 4;  ///< >= 0
+  // --- Piece windows (piece_window.hpp; with an acceptance test only) ---------------------------
+  /// > 0: each piece of the warm start is checked on its own by the acceptance test, and only the
+  /// runs of rejected pieces, grown by this many pieces on each side, are optimized (one window
+  /// problem after the other, every other piece held exactly; the window's rounds and
+  /// escalations as above, its re-checks on the window alone). A window whose rounds end without
+  /// passing grows by this many pieces on each side, then twice as many, and so on up to its
+  /// gear segment; a window that cannot grow any more hands the spliced trajectory to the whole
+  /// problem. Why: J_s's cost is the candidate points near the pieces evaluated, and a trajectory
+  /// whose collisions are a few places along it need not pay for the rest. Why 1: the window's
+  /// end states are held, so a rejected piece at the end of a window could not move its end; one
+  /// piece on each side is the least room that lets a detour leave and rejoin the path. 0: the
+  /// whole problem from the start (the paper's back-end). >= 0.
+  int window_grow_pieces = 1;
+  /// When the windows cover more than this fraction of the pieces, the whole problem is solved
+  /// instead: windows that large save little J_s and take away the freedom of the rest. (0, 1].
+  double window_max_fraction = 0.5;
+  /// Weight of the window problem's pull on the base's jerk at a cut towards the held side's,
+  /// per (m/s^3)^2 (piece_window.hpp "Cuts"). >= 0; 0: the jerk may jump at a cut. Why 100: on
+  /// the six runs (forest seeds 1, 5, 11, 12, 16, tunnel seed 14) whose wheel accelerations were
+  /// 7-27 % over their limit at a cut without it, 100 left none over at a cut (4 of 6 succeeded
+  /// against 1 of 6), 1e4 none either but held the windows so stiffly that 3 of 6 ran out of
+  /// budget. A jump of 0.1 m/s^3 then costs 1, about a nearly free window's J_s, so the pull
+  /// matters where the jump is large and gives way to J_s where the escape needs it.
+  double window_cut_jerk_weight = 100.0;
 };
 
 }  // namespace porter::backend

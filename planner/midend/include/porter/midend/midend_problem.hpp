@@ -7,7 +7,10 @@
 // z = [p_x, p_y, q1..q6]. Its boundary states are
 //   - the global start: the first reference node with the reference's start velocity and
 //     acceleration (ReferencePath::start; zero for a start at rest, the paper's case); the goal:
-//     the last reference node at rest (velocity and acceleration zero);
+//     the last reference node at rest (velocity and acceleration zero). A path cut out of a longer
+//     trajectory (ReferencePath::cut_start_position / cut_end_position: the back-end's piece windows) starts
+//     and ends at the given states instead; the rest-boundary terms apply only where the base rests
+//     there, and the min-speed term stays on the pieces next to a cut;
 //   - a gear switch g between segments g and g+1: a decision state
 //       position z_g (8), heading theta_g, joint velocity qd_g (6), joint acceleration qdd_g (6);
 //     base velocity pinned to eta_s * v_ns * [cos theta_g, sin theta_g] on each side (so the
@@ -160,12 +163,19 @@ class MidendProblem {
   /// gear states read from the pieces, tau from their durations. False when the piece count or a
   /// piece's eta differs, or when pieces() does not map the result back to the same pieces
   /// (within 1e-6 relative).
-  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x);
+  /// With exact = false the map back is not compared: x then describes the problem's trajectory
+  /// through the same waypoints, gear states and piece durations (for a trajectory this problem
+  /// cannot express exactly, e.g. one whose pieces join only C^2; false still when the piece count
+  /// or an eta differs, or x describes no trajectory).
+  bool decision_from_trajectory(const Trajectory& trajectory, Eigen::VectorXd& x, bool exact = true);
 
   /// The pieces x describes, segment after segment (eta per piece). Empty if x is unusable.
   std::vector<TrajectoryPiece> pieces(const double* x);
-  /// Yaw at the start of the trajectory (the first reference node's).
-  double start_yaw_rad() const { return reference_.segments.front().nodes.front().base.yaw_rad; }
+  /// Yaw at the start of the trajectory (the first reference node's; ReferencePath::
+  /// cut_start_yaw_rad for a cut).
+  double start_yaw_rad() const {
+    return reference_.cut_start_position ? reference_.cut_start_yaw_rad : reference_.segments.front().nodes.front().base.yaw_rad;
+  }
 
  private:
   struct SegmentLayout {
@@ -191,6 +201,7 @@ class MidendProblem {
   bool build_segment(int s, const double* x);
   double piece_penalty(int s, int i, CostBreakdown* breakdown);
   double boundary_heading(int s, bool at_start, CostBreakdown* breakdown);
+  double cut_jerk(int s, bool at_start, const Eigen::Vector2d& held, CostBreakdown* breakdown);
   double rest_rates(int s, bool at_start, CostBreakdown* breakdown);
   double extra_cost(const double* x, bool want_grad, CostBreakdown* breakdown);
 

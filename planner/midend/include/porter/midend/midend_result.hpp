@@ -27,11 +27,12 @@ struct CostBreakdown {
   double residual_arm = 0.0;         ///< e_m penalty
   double min_speed = 0.0;            ///< non-singular speed inside segments
   double boundary_heading = 0.0;
+  double cut_jerk = 0.0;             ///< ReferencePath::cut_jerk_weight's term (0 without cuts)
   double extra = 0.0;                ///< MidendProblem::set_extra_cost's term (0 without one)
 
   double total() const {
     return energy + time + wheel_velocity + wheel_acceleration + joint_position + joint_velocity +
-           joint_acceleration + residual_base + residual_arm + min_speed + boundary_heading + extra;
+           joint_acceleration + residual_base + residual_arm + min_speed + boundary_heading + cut_jerk + extra;
   }
   /// Sum of every penalty term (zero means no sampled constraint is violated).
   double penalties() const { return total() - energy - time; }

@@ -51,6 +51,7 @@
 // iteration count both grow with the number of pieces.
 // Pure function; thread-safe.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,26 @@ struct ReferencePath {
   std::vector<ReferenceSegment> segments;
   /// The trajectory's velocity and acceleration at the first node (zero: it starts at rest).
   StartDerivatives start;
+  /// The same at the last node (zero: it ends at rest).
+  StartDerivatives end;
+  /// A path cut out of a longer trajectory (the back-end's piece windows, backend/piece_window.hpp)
+  /// starts (ends) where that trajectory is, with its velocity and acceleration there (start /
+  /// end), while its nodes stay the reference's (the pose residuals' targets). A cut keeps the
+  /// min-speed term on the piece next to it, as the longer trajectory's problem does. Empty: the
+  /// node, an end of the plan.
+  std::optional<TrajVector> cut_start_position;
+  std::optional<TrajVector> cut_end_position;
+  /// With cut_start_position: the heading there (the trajectory's start heading, which a base at
+  /// rest holds; MidendProblem::start_yaw_rad).
+  double cut_start_yaw_rad = 0.0;
+  /// A cut holds position, velocity and acceleration (the pieces are quintics with those three
+  /// at each end), not the jerk: the base's jerk may jump there, and with it the yaw acceleration
+  /// and the wheel accelerations. With a weight > 0, the base's jerk (x, y) at a cut is pulled to
+  /// the held trajectory's there: cut_jerk_weight |j - j_held|^2, per cut (MidendProblem; counted
+  /// in CostBreakdown::cut_jerk, masked with kTermBoundaryHeading).
+  std::optional<Eigen::Vector2d> cut_start_base_jerk;
+  std::optional<Eigen::Vector2d> cut_end_base_jerk;
+  double cut_jerk_weight = 0.0;
   int num_pieces() const {
     int n = 0;
     for (const auto& s : segments) n += s.num_pieces();
