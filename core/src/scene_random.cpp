@@ -11,6 +11,16 @@ ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<C
                                 const std::vector<Eigen::Vector2d>& keep_clear_xy_W, PortableRandom& rng) {
   ColumnFieldResult result;
   result.columns.reserve(static_cast<std::size_t>(std::max(0, spec.count)));
+  // The columns placed so far as discs (centre, radius). A column is an upright cylinder, so
+  // footprint_distance to it is max(0, |c - centre| - r): tested here directly, without its
+  // per-call shape dispatch and rotation (the identity) of the offset, with the same result.
+  // In a crowded field most tests are against placed columns.
+  struct Disc {
+    Eigen::Vector2d centre;
+    double radius;
+  };
+  std::vector<Disc> discs;
+  discs.reserve(result.columns.capacity());
   for (int k = 0; k < spec.count; ++k) {
     bool placed = false;
     for (int attempt = 0; attempt < spec.max_attempts && !placed; ++attempt) {
@@ -25,14 +35,15 @@ ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<C
       bool ok = true;
       for (const auto& p : keep_clear_xy_W) ok = ok && (p - c).norm() >= need;
       for (std::size_t i = 0; ok && i < existing_W.size(); ++i) ok = footprint_distance(existing_W[i], c) >= need;
-      for (std::size_t i = 0; ok && i < result.columns.size(); ++i)
-        ok = footprint_distance(result.columns[i], c) >= need;
+      for (std::size_t i = 0; ok && i < discs.size(); ++i)
+        ok = std::max(0.0, (c - discs[i].centre).norm() - discs[i].radius) >= need;
       if (!ok) continue;
       CollisionShape col;
       col.geometry = Cylinder{r, spec.height_m};
       col.T_parent_shape.translation() = Eigen::Vector3d(x, y, 0.5 * spec.height_m);
       col.name = spec.name_prefix + "[" + std::to_string(k) + "]";
       result.columns.push_back(std::move(col));
+      discs.push_back({c, r});
       placed = true;
     }
     if (!placed) return result;

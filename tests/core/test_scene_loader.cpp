@@ -232,6 +232,90 @@ TEST_F(SceneFiles, UnplaceableColumnsAreAnError) {
                "random[0].columns");
 }
 
+// The rejection sampling as place_columns' contract states it, every test through
+// footprint_distance (the slow reference of place_columns' disc test against placed columns).
+ColumnFieldResult place_columns_reference(const ColumnFieldSpec& spec, const std::vector<CollisionShape>& existing_W,
+                                          const std::vector<Eigen::Vector2d>& keep_clear_xy_W, PortableRandom& rng) {
+  ColumnFieldResult result;
+  for (int k = 0; k < spec.count; ++k) {
+    bool placed = false;
+    for (int attempt = 0; attempt < spec.max_attempts && !placed; ++attempt) {
+      const double r = rng.uniform(spec.radius_min_m, spec.radius_max_m);
+      const double x = rng.uniform(spec.region_min_W.x() + r, spec.region_max_W.x() - r);
+      const double y = rng.uniform(spec.region_min_W.y() + r, spec.region_max_W.y() - r);
+      if (spec.region_max_W.x() - spec.region_min_W.x() < 2.0 * r ||
+          spec.region_max_W.y() - spec.region_min_W.y() < 2.0 * r)
+        continue;
+      const Eigen::Vector2d c(x, y);
+      const double need = r + spec.min_clearance_m;
+      bool ok = true;
+      for (const auto& p : keep_clear_xy_W) ok = ok && (p - c).norm() >= need;
+      for (const auto& o : existing_W) ok = ok && footprint_distance(o, c) >= need;
+      for (const auto& o : result.columns) ok = ok && footprint_distance(o, c) >= need;
+      if (!ok) continue;
+      CollisionShape col;
+      col.geometry = Cylinder{r, spec.height_m};
+      col.T_parent_shape.translation() = Eigen::Vector3d(x, y, 0.5 * spec.height_m);
+      col.name = spec.name_prefix + "[" + std::to_string(k) + "]";
+      result.columns.push_back(std::move(col));
+      placed = true;
+    }
+    if (!placed) return result;
+  }
+  result.complete = true;
+  return result;
+}
+
+TEST(PlaceColumns, SameFieldsAsEveryTestThroughFootprintDistance) {
+  // Existing obstacles of every footprint kind: an upright box, a yawed box, a tilted cylinder,
+  // a sphere; fields from sparse to too crowded to complete.
+  std::vector<CollisionShape> existing(4);
+  existing[0].geometry = Box{Eigen::Vector3d(1.0, 0.3, 2.0)};
+  existing[0].T_parent_shape.translation() = Eigen::Vector3d(0.0, 1.0, 1.0);
+  existing[1].geometry = Box{Eigen::Vector3d(2.0, 0.2, 1.0)};
+  existing[1].T_parent_shape = Eigen::Translation3d(2.0, -2.0, 0.5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
+  existing[2].geometry = Cylinder{0.2, 1.5};
+  existing[2].T_parent_shape = Eigen::Translation3d(-2.0, -1.0, 0.5) * Eigen::AngleAxisd(1.2, Eigen::Vector3d::UnitX());
+  existing[3].geometry = Sphere{0.4};
+  existing[3].T_parent_shape.translation() = Eigen::Vector3d(-3.0, 3.0, 0.4);
+  const std::vector<Eigen::Vector2d> keep_clear = {{-4.0, 0.0}, {4.0, 0.0}};
+  int complete = 0, incomplete = 0;
+  for (const int count : {5, 40, 150}) {
+    for (const double clearance : {0.1, 0.5, 1.2}) {
+      for (const std::uint64_t seed : {1u, 2u, 3u}) {
+        ColumnFieldSpec spec;
+        spec.count = count;
+        spec.region_min_W = Eigen::Vector2d(-5.0, -4.0);
+        spec.region_max_W = Eigen::Vector2d(5.0, 4.0);
+        spec.radius_min_m = 0.05;
+        spec.radius_max_m = 0.3;
+        spec.height_m = 2.0;
+        spec.min_clearance_m = clearance;
+        spec.max_attempts = 300;
+        PortableRandom fast_rng(seed), slow_rng(seed);
+        const ColumnFieldResult fast = place_columns(spec, existing, keep_clear, fast_rng);
+        const ColumnFieldResult slow = place_columns_reference(spec, existing, keep_clear, slow_rng);
+        SCOPED_TRACE("count " + std::to_string(count) + " clearance " + std::to_string(clearance) + " seed " +
+                     std::to_string(seed));
+        ASSERT_EQ(fast.complete, slow.complete);
+        ASSERT_EQ(fast.columns.size(), slow.columns.size());
+        for (std::size_t i = 0; i < fast.columns.size(); ++i) {
+          EXPECT_EQ(fast.columns[i].name, slow.columns[i].name);
+          EXPECT_EQ(fast.columns[i].T_parent_shape.matrix(), slow.columns[i].T_parent_shape.matrix());
+          EXPECT_EQ(std::get<Cylinder>(fast.columns[i].geometry).radius_m,
+                    std::get<Cylinder>(slow.columns[i].geometry).radius_m);
+        }
+        // The draws that follow are the same too: both consumed the same number.
+        EXPECT_EQ(fast_rng.next_u64(), slow_rng.next_u64());
+        ++(fast.complete ? complete : incomplete);
+      }
+    }
+  }
+  // Both outcomes were compared.
+  EXPECT_GT(complete, 0);
+  EXPECT_GT(incomplete, 0);
+}
+
 TEST(PortableRandom, UniformFromRawDraws) {
   PortableRandom r(5);
   std::mt19937_64 e(5);
