@@ -21,9 +21,22 @@ ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<C
   };
   std::vector<Disc> discs;
   discs.reserve(result.columns.capacity());
+  // Tests counted as distance evaluations: a tilted or mesh obstacle costs its triangles.
+  std::vector<std::int64_t> cost(existing_W.size());
+  std::int64_t existing_cost = 0;
+  for (std::size_t i = 0; i < existing_W.size(); ++i) {
+    cost[i] = static_cast<std::int64_t>(footprint_cost(existing_W[i]));
+    existing_cost += cost[i];
+  }
   for (int k = 0; k < spec.count; ++k) {
     bool placed = false;
     for (int attempt = 0; attempt < spec.max_attempts && !placed; ++attempt) {
+      const std::int64_t most =
+          static_cast<std::int64_t>(keep_clear_xy_W.size() + discs.size()) + existing_cost;
+      if (result.footprint_tests > spec.max_footprint_tests - most) {
+        result.out_of_tests = true;
+        return result;
+      }
       const double r = rng.uniform(spec.radius_min_m, spec.radius_max_m);
       const double x = rng.uniform(spec.region_min_W.x() + r, spec.region_max_W.x() - r);
       const double y = rng.uniform(spec.region_min_W.y() + r, spec.region_max_W.y() - r);
@@ -33,9 +46,11 @@ ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<C
       const Eigen::Vector2d c(x, y);
       const double need = r + spec.min_clearance_m;
       bool ok = true;
-      for (const auto& p : keep_clear_xy_W) ok = ok && (p - c).norm() >= need;
-      for (std::size_t i = 0; ok && i < existing_W.size(); ++i) ok = footprint_distance(existing_W[i], c) >= need;
-      for (std::size_t i = 0; ok && i < discs.size(); ++i)
+      for (std::size_t i = 0; ok && i < keep_clear_xy_W.size(); ++i, ++result.footprint_tests)
+        ok = (keep_clear_xy_W[i] - c).norm() >= need;
+      for (std::size_t i = 0; ok && i < existing_W.size(); result.footprint_tests += cost[i], ++i)
+        ok = footprint_distance(existing_W[i], c) >= need;
+      for (std::size_t i = 0; ok && i < discs.size(); ++i, ++result.footprint_tests)
         ok = std::max(0.0, (c - discs[i].centre).norm() - discs[i].radius) >= need;
       if (!ok) continue;
       CollisionShape col;

@@ -1,7 +1,9 @@
 // Scene files (scene_loader.hpp): format, parameters, seeds, strict errors.
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -230,6 +232,112 @@ TEST_F(SceneFiles, UnplaceableColumnsAreAnError) {
   expect_error(base("random:\n  - columns: {count: 200, region: {min: [-4, -4], max: [4, 4]}, radius: [0.2, 0.3],\n"
                     "              height: 2.0, min_clearance: 1.0, max_attempts: 50}\n"),
                "random[0].columns");
+}
+
+// 1000 columns x 1000 tries passed the count x max_attempts limit but, each try testing every
+// column placed before, made 5.4e6 distance tests (15 s under ASan, a fuzzer timeout): all of a
+// scene's generators together now stop at SceneLoadOptions::max_footprint_tests.
+TEST_F(SceneFiles, ColumnFieldsStopAtTheDistanceTestLimit) {
+  const std::string field =
+      "  - columns: {count: 150, region: {min: [-4.5, -4.5], max: [4.5, 4.5]}, radius: [0.1, 0.1],\n"
+      "              height: 2.0, min_clearance: 0.2, max_attempts: 1000}\n";
+  // Within the default limit the field loads.
+  const Scene one = parse_scene(base("random:\n" + field), label());
+  ASSERT_EQ(one.obstacles.size(), 150u);
+  SceneLoadOptions tight;
+  tight.max_footprint_tests = 2000;
+  try {
+    parse_scene(base("random:\n" + field), label(), tight);
+    ADD_FAILURE() << "no error";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.file(), label());
+    EXPECT_NE(e.element().find("random[0].columns"), std::string::npos) << e.element();
+    EXPECT_NE(std::string(e.what()).find("more than 2000 distance tests"), std::string::npos) << e.what();
+  }
+  // The limit is the scene's: a second generator gets what the first left. Find the tests of one
+  // field (the smallest limit that loads it), then two such fields exceed it in the second.
+  std::int64_t lo = 0, hi = kSceneMaxFootprintTests;  // fails at lo, loads at hi
+  while (hi - lo > 1) {
+    SceneLoadOptions o;
+    o.max_footprint_tests = lo + (hi - lo) / 2;
+    try {
+      parse_scene(base("random:\n" + field), label(), o);
+      hi = o.max_footprint_tests;
+    } catch (const LoadError&) {
+      lo = o.max_footprint_tests;
+    }
+  }
+  EXPECT_GT(hi, 2000);
+  SceneLoadOptions room_for_one;
+  room_for_one.max_footprint_tests = hi + hi / 2;
+  expect_error(base("random:\n" + field + field), "random[1].columns", room_for_one);
+  // With the default both fields load.
+  EXPECT_EQ(parse_scene(base("random:\n" + field + field), label()).obstacles.size(), 300u);
+}
+
+TEST(PlaceColumns, StopsBeforeItsTestsCouldPassTheLimit) {
+  ColumnFieldSpec spec;
+  spec.count = 120;
+  spec.region_min_W = Eigen::Vector2d(-4.0, -4.0);
+  spec.region_max_W = Eigen::Vector2d(4.0, 4.0);
+  spec.radius_min_m = 0.05;
+  spec.radius_max_m = 0.2;
+  spec.min_clearance_m = 0.3;
+  spec.max_attempts = 500;
+  std::vector<CollisionShape> existing(1);
+  existing[0].geometry = Box{Eigen::Vector3d(0.5, 2.0, 1.0)};
+  const std::vector<Eigen::Vector2d> keep_clear = {{-3.5, 0.0}};
+  PortableRandom free_rng(4);
+  const ColumnFieldResult unlimited = place_columns(spec, existing, keep_clear, free_rng);
+  ASSERT_FALSE(unlimited.out_of_tests);
+  ASSERT_GT(unlimited.footprint_tests, 1000);
+  for (const std::int64_t limit : {std::int64_t{0}, std::int64_t{1}, std::int64_t{500}, unlimited.footprint_tests / 2,
+                                   unlimited.footprint_tests - 1, unlimited.footprint_tests}) {
+    spec.max_footprint_tests = limit;
+    PortableRandom rng(4);
+    const ColumnFieldResult r = place_columns(spec, existing, keep_clear, rng);
+    SCOPED_TRACE("limit " + std::to_string(limit));
+    EXPECT_LE(r.footprint_tests, limit);
+    EXPECT_EQ(r.out_of_tests, limit < unlimited.footprint_tests);
+    EXPECT_EQ(r.complete, unlimited.complete && !r.out_of_tests);
+    // What it placed before stopping is what the unlimited run placed first.
+    ASSERT_LE(r.columns.size(), unlimited.columns.size());
+    for (std::size_t i = 0; i < r.columns.size(); ++i)
+      EXPECT_EQ(r.columns[i].T_parent_shape.matrix(), unlimited.columns[i].T_parent_shape.matrix());
+  }
+}
+
+TEST(FootprintCost, CountsTheDistanceEvaluationsOfOneFootprintDistance) {
+  CollisionShape box;
+  box.geometry = Box{Eigen::Vector3d(1.0, 2.0, 3.0)};
+  box.T_parent_shape = Eigen::Translation3d(1.0, 2.0, 0.5) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(footprint_cost(box), 1u);  // upright, yawed: a rectangle
+  box.T_parent_shape = Eigen::Isometry3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
+  EXPECT_EQ(footprint_cost(box), 12u);  // tilted: the triangles of a box
+  CollisionShape cylinder;
+  cylinder.geometry = Cylinder{0.3, 1.0};
+  EXPECT_EQ(footprint_cost(cylinder), 1u);
+  cylinder.T_parent_shape = Eigen::Isometry3d(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()));
+  EXPECT_GE(footprint_cost(cylinder), 128u);  // tilted: a 64-gon prism, two triangles a side at least
+  CollisionShape sphere;
+  sphere.geometry = Sphere{0.5};
+  EXPECT_EQ(footprint_cost(sphere), 1u);
+  auto mesh = std::make_shared<TriangleMesh>(shape_to_mesh(box));
+  mesh->triangles.resize(7);
+  CollisionShape mesh_shape;
+  mesh_shape.geometry = MeshShape{mesh};
+  EXPECT_EQ(footprint_cost(mesh_shape), 7u);
+  // place_columns counts a tilted obstacle at its cost: one try, tested against it only.
+  ColumnFieldSpec spec;
+  spec.count = 1;
+  spec.region_min_W = Eigen::Vector2d(10.0, 10.0);
+  spec.region_max_W = Eigen::Vector2d(12.0, 12.0);
+  spec.radius_min_m = spec.radius_max_m = 0.1;
+  spec.min_clearance_m = 0.1;
+  PortableRandom rng(1);
+  const ColumnFieldResult r = place_columns(spec, {cylinder}, {}, rng);
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.footprint_tests, static_cast<std::int64_t>(footprint_cost(cylinder)));
 }
 
 // The rejection sampling as place_columns' contract states it, every test through
