@@ -1,10 +1,16 @@
 #include "ply_header.hpp"
 
+#include <cmath>
 #include <cstdint>
+#include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "porter/core/mesh_loader.hpp"
@@ -24,11 +30,155 @@ int type_size(const std::string& t) {
   return it == sizes.end() ? 0 : it->second;
 }
 
+// One property of an element: a scalar, or a list (its count's type, then its items' type).
+struct Property {
+  bool list = false;
+  std::string count_type;  // list only
+  int bytes = 0;           // scalar: the value's; list: one item's
+};
+
 struct Element {
   std::string name;
   std::uint64_t count = 0;
   std::uint64_t min_bytes = 0;  // least bytes one element takes in the body
+  std::vector<Property> properties;
 };
+
+bool is_signed_type(const std::string& t) {
+  return t == "char" || t == "int8" || t == "short" || t == "int16" || t == "int" || t == "int32";
+}
+bool is_float_type(const std::string& t) {
+  return t == "float" || t == "float32" || t == "double" || t == "float64";
+}
+
+// A list count as assimp turns it into an unsigned int (ConvertTo<unsigned int>): an unsigned
+// type keeps its leading digits, a negative signed count wraps to ~4e9, a float is truncated.
+// Returned as a double so that every one of those compares with what the file can hold.
+double ascii_list_count(const std::string& token, const std::string& type) {
+  if (is_float_type(type)) {
+    const double v = std::strtod(token.c_str(), nullptr);
+    return std::isnan(v) ? 4294967295.0 : v < 0.0 ? 4294967295.0 : v;
+  }
+  std::size_t i = 0;
+  bool negative = false;
+  if (is_signed_type(type) && i < token.size() && (token[i] == '-' || token[i] == '+')) negative = token[i++] == '-';
+  double v = 0.0;
+  for (; i < token.size() && token[i] >= '0' && token[i] <= '9'; ++i) v = 10.0 * v + (token[i] - '0');
+  return negative && v > 0.0 ? 4294967295.0 : v;
+}
+
+// The body of an ASCII PLY as assimp's IOStreamBuffer::getNextLine cuts it: '\r', '\n', '\0'
+// and '\f' end a line; a line that starts at a line end first skips through the next '\n'.
+class AsciiLines {
+ public:
+  explicit AsciiLines(std::string body) : body_(std::move(body)) {}
+  bool next(std::string& line) {
+    if (pos_ >= body_.size()) return false;
+    if (end_of_line(body_[pos_])) {
+      while (pos_ < body_.size() && body_[pos_] != '\n') ++pos_;
+      ++pos_;
+      if (pos_ >= body_.size()) return false;
+    }
+    const std::size_t from = pos_;
+    while (pos_ < body_.size() && !end_of_line(body_[pos_])) ++pos_;
+    line.assign(body_, from, pos_ - from);
+    ++pos_;
+    return true;
+  }
+
+ private:
+  static bool end_of_line(char c) { return c == '\r' || c == '\n' || c == '\0' || c == '\f'; }
+  std::string body_;
+  std::size_t pos_ = 0;
+};
+
+// Walks the element instances of an ASCII body, one a line as assimp reads them: a list may not
+// claim more values than its line has characters (assimp sizes the list by the claim before
+// reading a value: a count of 399125025 on a face line asked for 3.2 GB). A claim above the
+// values the line has but within its length is left to assimp, which reads what is there (so
+// allocating at most 8 bytes per character of the line).
+std::string check_ascii_lists(const std::vector<Element>& elements, std::string body) {
+  AsciiLines lines(std::move(body));
+  std::string line;
+  for (const Element& e : elements) {
+    bool has_list = false;
+    for (const Property& p : e.properties) has_list = has_list || p.list;
+    for (std::uint64_t k = 0; k < e.count; ++k) {
+      if (!lines.next(line)) return {};  // assimp refuses a body that ends early
+      if (!has_list) continue;
+      std::vector<std::string> tokens;
+      std::istringstream words(line);
+      for (std::string w; words >> w;) tokens.push_back(w);
+      std::size_t at = 0;
+      for (const Property& p : e.properties) {
+        if (at >= tokens.size()) break;
+        if (!p.list) {
+          ++at;
+          continue;
+        }
+        const double n = ascii_list_count(tokens[at++], p.count_type);
+        if (n > static_cast<double>(line.size()))
+          return "PLY " + e.name + " " + std::to_string(k) + " has a list of " +
+                 std::to_string(static_cast<unsigned long long>(n)) + " values on a line of " +
+                 std::to_string(line.size()) + " characters";
+        at += static_cast<std::size_t>(n);
+      }
+    }
+  }
+  return {};
+}
+
+std::uint64_t read_unsigned(const unsigned char* p, int bytes, bool big_endian) {
+  std::uint64_t v = 0;
+  for (int i = 0; i < bytes; ++i) v |= std::uint64_t{p[big_endian ? bytes - 1 - i : i]} << (8 * i);
+  return v;
+}
+
+// A binary list count as assimp turns it into an unsigned int (see ascii_list_count).
+double binary_list_count(const unsigned char* p, const std::string& type, int bytes, bool big_endian) {
+  const std::uint64_t raw = read_unsigned(p, bytes, big_endian);
+  if (type == "float" || type == "float32") {
+    float f;
+    const auto u = static_cast<std::uint32_t>(raw);
+    std::memcpy(&f, &u, sizeof f);
+    return std::isnan(f) || f < 0.0f ? 4294967295.0 : static_cast<double>(f);
+  }
+  if (type == "double" || type == "float64") {
+    double d;
+    std::memcpy(&d, &raw, sizeof d);
+    return std::isnan(d) || d < 0.0 ? 4294967295.0 : d;
+  }
+  if (is_signed_type(type) && (raw >> (8 * bytes - 1)) != 0) return 4294967295.0;  // negative
+  return static_cast<double>(raw);
+}
+
+// Walks the element instances of a binary body: a list's items must fit in the bytes left.
+std::string check_binary_lists(const std::vector<Element>& elements, const std::string& body, bool big_endian) {
+  const auto* data = reinterpret_cast<const unsigned char*>(body.data());
+  std::size_t at = 0;
+  for (const Element& e : elements) {
+    for (std::uint64_t k = 0; k < e.count; ++k) {
+      for (const Property& p : e.properties) {
+        if (!p.list) {
+          at += static_cast<std::size_t>(p.bytes);
+          if (at > body.size()) return {};  // assimp refuses a body that ends early
+          continue;
+        }
+        const int count_bytes = type_size(p.count_type);
+        if (at + static_cast<std::size_t>(count_bytes) > body.size()) return {};
+        const double n = binary_list_count(data + at, p.count_type, count_bytes, big_endian);
+        at += static_cast<std::size_t>(count_bytes);
+        const std::size_t left = body.size() - at;
+        if (n * p.bytes > static_cast<double>(left))
+          return "PLY " + e.name + " " + std::to_string(k) + " has a list of " +
+                 std::to_string(static_cast<unsigned long long>(n)) + " values of " + std::to_string(p.bytes) +
+                 " bytes with " + std::to_string(left) + " bytes left";
+        at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.bytes);
+      }
+    }
+  }
+  return {};
+}
 
 }  // namespace
 
@@ -38,7 +188,7 @@ std::string check_ply_header(const std::string& path) {
   std::string magic;
   if (!std::getline(in, magic) || (magic != "ply" && magic != "ply\r")) return {};
 
-  bool binary = false, have_format = false;
+  bool binary = false, big_endian = false, have_format = false;
   std::vector<Element> elements;
   std::string line;
   std::size_t header_bytes = magic.size() + 1;
@@ -61,6 +211,7 @@ std::string check_ply_header(const std::string& path) {
         binary = false;
       } else if (format == "binary_little_endian" || format == "binary_big_endian") {
         binary = true;
+        big_endian = format == "binary_big_endian";
       } else {
         return "PLY format '" + format + "' unknown";
       }
@@ -78,16 +229,20 @@ std::string check_ply_header(const std::string& path) {
       std::string type;
       words >> type;
       int bytes = 0;
+      Property property;
       if (type == "list") {
         std::string count_type, item_type;
         words >> count_type >> item_type;
         if (type_size(count_type) == 0 || type_size(item_type) == 0)
           return "PLY list property of unknown type '" + count_type + " " + item_type + "'";
         bytes = type_size(count_type);  // a list may be empty: its count alone
+        property = {true, count_type, type_size(item_type)};
       } else {
         bytes = type_size(type);
         if (bytes == 0) return "PLY property of unknown type '" + type + "'";
+        property = {false, "", bytes};
       }
+      elements.back().properties.push_back(property);
       // ASCII: a value takes at least one character and one separator.
       elements.back().min_bytes += binary ? static_cast<std::uint64_t>(bytes) : 2u;
     }
@@ -112,7 +267,9 @@ std::string check_ply_header(const std::string& path) {
       return "PLY header claims " + std::to_string(e.count) + " '" + e.name + "' elements, which need at least " +
              std::to_string(needed) + " bytes; the file has " + std::to_string(body) + " after its header";
   }
-  return {};
+  // The body, read from where the header ended (the file is at most kMeshMaxFileBytes).
+  std::string rest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return binary ? check_binary_lists(elements, rest, big_endian) : check_ascii_lists(elements, std::move(rest));
 }
 
 }  // namespace porter::detail

@@ -59,4 +59,21 @@ double footprint_distance(const CollisionShape& obstacle_W, const Eigen::Vector2
   return projected_mesh_distance(shape_to_mesh(obstacle_W), p_xy_W);
 }
 
+std::size_t footprint_cost(const CollisionShape& obstacle_W) {
+  const Eigen::Isometry3d& T = obstacle_W.T_parent_shape;
+  if (std::holds_alternative<Box>(obstacle_W.geometry)) {
+    return vertical_axis(T) ? 1 : std::max<std::size_t>(1, shape_to_mesh(obstacle_W).triangles.size());
+  }
+  if (std::holds_alternative<Sphere>(obstacle_W.geometry)) return 1;
+  if (const auto* c = std::get_if<Cylinder>(&obstacle_W.geometry)) {
+    if (vertical_axis(T)) return 1;
+    constexpr int kSegments = 64;  // as footprint_distance
+    CollisionShape prism = obstacle_W;
+    prism.geometry = Cylinder{c->radius_m / std::cos(kPi / kSegments), c->length_m};
+    return std::max<std::size_t>(1, shape_to_mesh(prism, kSegments).triangles.size());
+  }
+  const auto& m = std::get<MeshShape>(obstacle_W.geometry);
+  return m.mesh ? std::max<std::size_t>(1, m.mesh->triangles.size()) : 1;
+}
+
 }  // namespace porter

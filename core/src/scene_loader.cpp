@@ -365,9 +365,16 @@ class SceneParser {
       body.fail("count x max_attempts = " + fmt(static_cast<double>(spec.count) * spec.max_attempts) +
                 " placement tries exceeds " + fmt(kSceneMaxPlacementTries));
     spec.name_prefix = optional_name(body, body.path());
+    spec.max_footprint_tests = options_.max_footprint_tests - footprint_tests_;
     const std::vector<Eigen::Vector2d> keep_clear = {{s.start.base.x_m, s.start.base.y_m},
                                                      {s.goal.base.x_m, s.goal.base.y_m}};
     ColumnFieldResult placed = place_columns(spec, s.obstacles, keep_clear, rng);
+    footprint_tests_ += placed.footprint_tests;
+    if (placed.out_of_tests)
+      body.fail("placing the columns takes more than " + fmt(static_cast<double>(options_.max_footprint_tests)) +
+                " distance tests (all generators of the scene together; placed " +
+                std::to_string(placed.columns.size()) + " of " + std::to_string(spec.count) +
+                "); lower count, max_attempts or min_clearance, or enlarge region");
     for (auto& column : placed.columns) add(s, std::move(column), body);
     if (!placed.complete)
       body.fail("placed only " + std::to_string(placed.columns.size()) + " of " + std::to_string(spec.count) +
@@ -379,6 +386,7 @@ class SceneParser {
   const SceneLoadOptions& options_;
   std::map<std::string, double> params_;
   std::set<std::string> names_;
+  std::int64_t footprint_tests_ = 0;  ///< by all random generators so far
 };
 
 }  // namespace

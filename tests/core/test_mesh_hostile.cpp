@@ -3,6 +3,7 @@
 
 #include <filesystem>
 #include <algorithm>
+#include <cstdint>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -80,6 +81,69 @@ TEST_F(HostileMeshes, PlyCountsAreCheckedAgainstTheFileBeforeAssimpReadsIt) {
                        "property float y\nproperty float z\nend_header\n";
   binary += std::string(12 * 99, '\0');  // one vertex short
   expect_refused(write("binary.ply", binary), "need at least 1200 bytes");
+}
+
+// A binary tetrahedron, faces as "list uchar uint"; `last_count` is the last face's count.
+std::string binary_tetra_ply(bool big_endian, std::uint8_t last_count = 3, const std::string& count_type = "uchar") {
+  std::string text = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
+                     " 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+                     "element face 4\nproperty list " + count_type + " uint vertex_indices\nend_header\n";
+  auto put = [&](const void* p, std::size_t n) {
+    const auto* b = static_cast<const char*>(p);
+    for (std::size_t i = 0; i < n; ++i) text += b[big_endian ? n - 1 - i : i];  // the host is little-endian
+  };
+  const float v[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& p : v)
+    for (const float c : p) put(&c, 4);
+  const std::uint32_t f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t n = k == 3 ? last_count : 3;
+    put(&n, count_type == "uchar" ? 1 : 4);
+    for (const std::uint32_t i : f[k]) put(&i, 4);
+  }
+  return text;
+}
+
+// Found by the fuzzer: one ASCII face line claiming 399125025 indices made assimp allocate the
+// list (3.2 GB) before reading it. A list may claim at most as many values as its line has
+// characters (ASCII) or its items the bytes left (binary); a shorter line is left to assimp.
+TEST_F(HostileMeshes, PlyListCountsAreCheckedBeforeAssimpReadsTheFile) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n";
+  expect_refused(write("huge_list.ply", head + "399125025 1 2 3\n"),
+                 "PLY face 3 has a list of 399125025 values on a line of 15 characters");
+  // A negative count of a signed type is ~4e9 to assimp.
+  std::string signed_head = head;
+  signed_head.replace(signed_head.find("list uchar int"), 14, "list int int");
+  expect_refused(write("negative_list.ply", signed_head + "-1 1 2 3\n"), "has a list of 4294967295 values");
+  // The fuzzer's file itself (after its mode byte).
+  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_ply_list_count",
+                   std::ios::binary);
+  ASSERT_TRUE(in);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1u);
+  expect_refused(write("regression_list.ply", bytes.substr(1)), "has a list of 399125025 values");
+  // A claim within the line's length is not this check's business.
+  try {
+    load_mesh(write("short_list.ply", head + "5 1 2 3\n"));
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.reason().find("has a list of"), std::string::npos) << e.what();
+  }
+  // Binary, both byte orders: the tetrahedron loads; a count whose items pass the file's end is
+  // refused.
+  for (const bool big : {false, true}) {
+    SCOPED_TRACE(big ? "big endian" : "little endian");
+    const MeshPtr mesh = load_mesh(write("binary_ok.ply", binary_tetra_ply(big)));
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(mesh->triangles.size(), 4u);
+    EXPECT_TRUE(mesh->closed);
+    expect_refused(write("binary_list.ply", binary_tetra_ply(big, 200)), "PLY face 3 has a list of 200 values of 4 bytes");
+    std::string wide = binary_tetra_ply(big, 3, "uint");
+    const std::size_t last_count = wide.size() - 16;  // the last face: a 4-byte count, 3 indices
+    wide.replace(last_count, 4, std::string(4, '\xff'));
+    expect_refused(write("binary_uint_list.ply", wide), "has a list of 4294967295 values");
+  }
 }
 
 // A tetrahedron as OFF; `header` is the first line, `counts` the second.

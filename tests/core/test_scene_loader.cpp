@@ -1,7 +1,9 @@
 // Scene files (scene_loader.hpp): format, parameters, seeds, strict errors.
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -230,6 +232,196 @@ TEST_F(SceneFiles, UnplaceableColumnsAreAnError) {
   expect_error(base("random:\n  - columns: {count: 200, region: {min: [-4, -4], max: [4, 4]}, radius: [0.2, 0.3],\n"
                     "              height: 2.0, min_clearance: 1.0, max_attempts: 50}\n"),
                "random[0].columns");
+}
+
+// 1000 columns x 1000 tries passed the count x max_attempts limit but, each try testing every
+// column placed before, made 5.4e6 distance tests (15 s under ASan, a fuzzer timeout): all of a
+// scene's generators together now stop at SceneLoadOptions::max_footprint_tests.
+TEST_F(SceneFiles, ColumnFieldsStopAtTheDistanceTestLimit) {
+  const std::string field =
+      "  - columns: {count: 150, region: {min: [-4.5, -4.5], max: [4.5, 4.5]}, radius: [0.1, 0.1],\n"
+      "              height: 2.0, min_clearance: 0.2, max_attempts: 1000}\n";
+  // Within the default limit the field loads.
+  const Scene one = parse_scene(base("random:\n" + field), label());
+  ASSERT_EQ(one.obstacles.size(), 150u);
+  SceneLoadOptions tight;
+  tight.max_footprint_tests = 2000;
+  try {
+    parse_scene(base("random:\n" + field), label(), tight);
+    ADD_FAILURE() << "no error";
+  } catch (const LoadError& e) {
+    EXPECT_EQ(e.file(), label());
+    EXPECT_NE(e.element().find("random[0].columns"), std::string::npos) << e.element();
+    EXPECT_NE(std::string(e.what()).find("more than 2000 distance tests"), std::string::npos) << e.what();
+  }
+  // The limit is the scene's: a second generator gets what the first left. Find the tests of one
+  // field (the smallest limit that loads it), then two such fields exceed it in the second.
+  std::int64_t lo = 0, hi = kSceneMaxFootprintTests;  // fails at lo, loads at hi
+  while (hi - lo > 1) {
+    SceneLoadOptions o;
+    o.max_footprint_tests = lo + (hi - lo) / 2;
+    try {
+      parse_scene(base("random:\n" + field), label(), o);
+      hi = o.max_footprint_tests;
+    } catch (const LoadError&) {
+      lo = o.max_footprint_tests;
+    }
+  }
+  EXPECT_GT(hi, 2000);
+  SceneLoadOptions room_for_one;
+  room_for_one.max_footprint_tests = hi + hi / 2;
+  expect_error(base("random:\n" + field + field), "random[1].columns", room_for_one);
+  // With the default both fields load.
+  EXPECT_EQ(parse_scene(base("random:\n" + field + field), label()).obstacles.size(), 300u);
+}
+
+TEST(PlaceColumns, StopsBeforeItsTestsCouldPassTheLimit) {
+  ColumnFieldSpec spec;
+  spec.count = 120;
+  spec.region_min_W = Eigen::Vector2d(-4.0, -4.0);
+  spec.region_max_W = Eigen::Vector2d(4.0, 4.0);
+  spec.radius_min_m = 0.05;
+  spec.radius_max_m = 0.2;
+  spec.min_clearance_m = 0.3;
+  spec.max_attempts = 500;
+  std::vector<CollisionShape> existing(1);
+  existing[0].geometry = Box{Eigen::Vector3d(0.5, 2.0, 1.0)};
+  const std::vector<Eigen::Vector2d> keep_clear = {{-3.5, 0.0}};
+  PortableRandom free_rng(4);
+  const ColumnFieldResult unlimited = place_columns(spec, existing, keep_clear, free_rng);
+  ASSERT_FALSE(unlimited.out_of_tests);
+  ASSERT_GT(unlimited.footprint_tests, 1000);
+  for (const std::int64_t limit : {std::int64_t{0}, std::int64_t{1}, std::int64_t{500}, unlimited.footprint_tests / 2,
+                                   unlimited.footprint_tests - 1, unlimited.footprint_tests}) {
+    spec.max_footprint_tests = limit;
+    PortableRandom rng(4);
+    const ColumnFieldResult r = place_columns(spec, existing, keep_clear, rng);
+    SCOPED_TRACE("limit " + std::to_string(limit));
+    EXPECT_LE(r.footprint_tests, limit);
+    EXPECT_EQ(r.out_of_tests, limit < unlimited.footprint_tests);
+    EXPECT_EQ(r.complete, unlimited.complete && !r.out_of_tests);
+    // What it placed before stopping is what the unlimited run placed first.
+    ASSERT_LE(r.columns.size(), unlimited.columns.size());
+    for (std::size_t i = 0; i < r.columns.size(); ++i)
+      EXPECT_EQ(r.columns[i].T_parent_shape.matrix(), unlimited.columns[i].T_parent_shape.matrix());
+  }
+}
+
+TEST(FootprintCost, CountsTheDistanceEvaluationsOfOneFootprintDistance) {
+  CollisionShape box;
+  box.geometry = Box{Eigen::Vector3d(1.0, 2.0, 3.0)};
+  box.T_parent_shape = Eigen::Translation3d(1.0, 2.0, 0.5) * Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ());
+  EXPECT_EQ(footprint_cost(box), 1u);  // upright, yawed: a rectangle
+  box.T_parent_shape = Eigen::Isometry3d(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()));
+  EXPECT_EQ(footprint_cost(box), 12u);  // tilted: the triangles of a box
+  CollisionShape cylinder;
+  cylinder.geometry = Cylinder{0.3, 1.0};
+  EXPECT_EQ(footprint_cost(cylinder), 1u);
+  cylinder.T_parent_shape = Eigen::Isometry3d(Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()));
+  EXPECT_GE(footprint_cost(cylinder), 128u);  // tilted: a 64-gon prism, two triangles a side at least
+  CollisionShape sphere;
+  sphere.geometry = Sphere{0.5};
+  EXPECT_EQ(footprint_cost(sphere), 1u);
+  auto mesh = std::make_shared<TriangleMesh>(shape_to_mesh(box));
+  mesh->triangles.resize(7);
+  CollisionShape mesh_shape;
+  mesh_shape.geometry = MeshShape{mesh};
+  EXPECT_EQ(footprint_cost(mesh_shape), 7u);
+  // place_columns counts a tilted obstacle at its cost: one try, tested against it only.
+  ColumnFieldSpec spec;
+  spec.count = 1;
+  spec.region_min_W = Eigen::Vector2d(10.0, 10.0);
+  spec.region_max_W = Eigen::Vector2d(12.0, 12.0);
+  spec.radius_min_m = spec.radius_max_m = 0.1;
+  spec.min_clearance_m = 0.1;
+  PortableRandom rng(1);
+  const ColumnFieldResult r = place_columns(spec, {cylinder}, {}, rng);
+  ASSERT_TRUE(r.complete);
+  EXPECT_EQ(r.footprint_tests, static_cast<std::int64_t>(footprint_cost(cylinder)));
+}
+
+// The rejection sampling as place_columns' contract states it, every test through
+// footprint_distance (the slow reference of place_columns' disc test against placed columns).
+ColumnFieldResult place_columns_reference(const ColumnFieldSpec& spec, const std::vector<CollisionShape>& existing_W,
+                                          const std::vector<Eigen::Vector2d>& keep_clear_xy_W, PortableRandom& rng) {
+  ColumnFieldResult result;
+  for (int k = 0; k < spec.count; ++k) {
+    bool placed = false;
+    for (int attempt = 0; attempt < spec.max_attempts && !placed; ++attempt) {
+      const double r = rng.uniform(spec.radius_min_m, spec.radius_max_m);
+      const double x = rng.uniform(spec.region_min_W.x() + r, spec.region_max_W.x() - r);
+      const double y = rng.uniform(spec.region_min_W.y() + r, spec.region_max_W.y() - r);
+      if (spec.region_max_W.x() - spec.region_min_W.x() < 2.0 * r ||
+          spec.region_max_W.y() - spec.region_min_W.y() < 2.0 * r)
+        continue;
+      const Eigen::Vector2d c(x, y);
+      const double need = r + spec.min_clearance_m;
+      bool ok = true;
+      for (const auto& p : keep_clear_xy_W) ok = ok && (p - c).norm() >= need;
+      for (const auto& o : existing_W) ok = ok && footprint_distance(o, c) >= need;
+      for (const auto& o : result.columns) ok = ok && footprint_distance(o, c) >= need;
+      if (!ok) continue;
+      CollisionShape col;
+      col.geometry = Cylinder{r, spec.height_m};
+      col.T_parent_shape.translation() = Eigen::Vector3d(x, y, 0.5 * spec.height_m);
+      col.name = spec.name_prefix + "[" + std::to_string(k) + "]";
+      result.columns.push_back(std::move(col));
+      placed = true;
+    }
+    if (!placed) return result;
+  }
+  result.complete = true;
+  return result;
+}
+
+TEST(PlaceColumns, SameFieldsAsEveryTestThroughFootprintDistance) {
+  // Existing obstacles of every footprint kind: an upright box, a yawed box, a tilted cylinder,
+  // a sphere; fields from sparse to too crowded to complete.
+  std::vector<CollisionShape> existing(4);
+  existing[0].geometry = Box{Eigen::Vector3d(1.0, 0.3, 2.0)};
+  existing[0].T_parent_shape.translation() = Eigen::Vector3d(0.0, 1.0, 1.0);
+  existing[1].geometry = Box{Eigen::Vector3d(2.0, 0.2, 1.0)};
+  existing[1].T_parent_shape = Eigen::Translation3d(2.0, -2.0, 0.5) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
+  existing[2].geometry = Cylinder{0.2, 1.5};
+  existing[2].T_parent_shape = Eigen::Translation3d(-2.0, -1.0, 0.5) * Eigen::AngleAxisd(1.2, Eigen::Vector3d::UnitX());
+  existing[3].geometry = Sphere{0.4};
+  existing[3].T_parent_shape.translation() = Eigen::Vector3d(-3.0, 3.0, 0.4);
+  const std::vector<Eigen::Vector2d> keep_clear = {{-4.0, 0.0}, {4.0, 0.0}};
+  int complete = 0, incomplete = 0;
+  for (const int count : {5, 40, 150}) {
+    for (const double clearance : {0.1, 0.5, 1.2}) {
+      for (const std::uint64_t seed : {1u, 2u, 3u}) {
+        ColumnFieldSpec spec;
+        spec.count = count;
+        spec.region_min_W = Eigen::Vector2d(-5.0, -4.0);
+        spec.region_max_W = Eigen::Vector2d(5.0, 4.0);
+        spec.radius_min_m = 0.05;
+        spec.radius_max_m = 0.3;
+        spec.height_m = 2.0;
+        spec.min_clearance_m = clearance;
+        spec.max_attempts = 300;
+        PortableRandom fast_rng(seed), slow_rng(seed);
+        const ColumnFieldResult fast = place_columns(spec, existing, keep_clear, fast_rng);
+        const ColumnFieldResult slow = place_columns_reference(spec, existing, keep_clear, slow_rng);
+        SCOPED_TRACE("count " + std::to_string(count) + " clearance " + std::to_string(clearance) + " seed " +
+                     std::to_string(seed));
+        ASSERT_EQ(fast.complete, slow.complete);
+        ASSERT_EQ(fast.columns.size(), slow.columns.size());
+        for (std::size_t i = 0; i < fast.columns.size(); ++i) {
+          EXPECT_EQ(fast.columns[i].name, slow.columns[i].name);
+          EXPECT_EQ(fast.columns[i].T_parent_shape.matrix(), slow.columns[i].T_parent_shape.matrix());
+          EXPECT_EQ(std::get<Cylinder>(fast.columns[i].geometry).radius_m,
+                    std::get<Cylinder>(slow.columns[i].geometry).radius_m);
+        }
+        // The draws that follow are the same too: both consumed the same number.
+        EXPECT_EQ(fast_rng.next_u64(), slow_rng.next_u64());
+        ++(fast.complete ? complete : incomplete);
+      }
+    }
+  }
+  // Both outcomes were compared.
+  EXPECT_GT(complete, 0);
+  EXPECT_GT(incomplete, 0);
 }
 
 TEST(PortableRandom, UniformFromRawDraws) {

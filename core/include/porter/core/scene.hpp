@@ -48,4 +48,10 @@ struct Scene {
 /// radius (never overestimated).
 double footprint_distance(const CollisionShape& obstacle_W, const Eigen::Vector2d& p_xy_W);
 
+/// The distance evaluations one footprint_distance call makes for this obstacle: 1 for a box or
+/// cylinder with a vertical axis and for a sphere, else the triangles of the mesh it projects
+/// (12 for a tilted box, 256 for a tilted cylinder's prism, the mesh's own). Builds no mesh for
+/// a mesh obstacle; builds the tilted shape's mesh once to count it.
+std::size_t footprint_cost(const CollisionShape& obstacle_W);
+
 }  // namespace porter

@@ -8,6 +8,7 @@
 // functions are reentrant.
 
 #include <cstdint>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -42,18 +43,24 @@ struct ColumnFieldSpec {
   double min_clearance_m = 0.5;   ///< gap from keep-clear points and from other footprints
   int max_attempts = 1000;        ///< per column
   std::string name_prefix = "column";  ///< column k is named "<prefix>[k]"
+  /// Distance tests allowed in all (keep-clear points, obstacles as footprint_cost counts them,
+  /// placed columns): an attempt is made only when its tests cannot take the total above this.
+  std::int64_t max_footprint_tests = std::numeric_limits<std::int64_t>::max();
 };
 
 struct ColumnFieldResult {
   std::vector<CollisionShape> columns;  ///< the ones placed, in order
   bool complete = false;                ///< all `count` columns were placed
+  std::int64_t footprint_tests = 0;     ///< distance tests made
+  bool out_of_tests = false;            ///< stopped by max_footprint_tests
 };
 
 /// Per column: draw radius r = uniform(rmin, rmax), then centre x, y = uniform over the region
 /// shrunk by r (x drawn before y), and keep it when its surface is at least min_clearance_m from
 /// every keep-clear point and from the footprint (footprint_distance) of every obstacle in
 /// `existing_W` and every column placed before; otherwise redraw, up to max_attempts draws of
-/// (r, x, y). Stops at the first column that cannot be placed (complete = false).
+/// (r, x, y). Stops at the first column that cannot be placed (complete = false), or before an
+/// attempt whose tests could take the total past max_footprint_tests (out_of_tests = true).
 ColumnFieldResult place_columns(const ColumnFieldSpec& spec, const std::vector<CollisionShape>& existing_W,
                                 const std::vector<Eigen::Vector2d>& keep_clear_xy_W, PortableRandom& rng);
 
