@@ -1,5 +1,6 @@
 #include "ply_header.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -185,23 +186,40 @@ std::string check_binary_lists(const std::vector<Element>& elements, const std::
 std::string check_ply_header(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return {};
-  std::string magic;
-  if (!std::getline(in, magic) || (magic != "ply" && magic != "ply\r")) return {};
+  // The header as assimp 5.2's PLY reader sees it: a line ends at '\n', '\r', '\0' or '\f'; the
+  // first line is the magic when its first three characters are "ply" in any case (the rest of
+  // it is ignored). A check that cut lines at '\n' only and wanted the first line to be "ply"
+  // let files starting "ply\fformat ascii 1.0" or "ply\x80..." with no end_header pass, and
+  // assimp then searched for the end of their header for ever (found by the fuzzer).
+  std::string head(kMaxHeaderBytes + 1, '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  head.resize(static_cast<std::size_t>(in.gcount()));
+  const auto line_end = [](char c) { return c == '\n' || c == '\r' || c == '\0' || c == '\f'; };
+  const auto is = [&](std::size_t i, char lower) { return i < head.size() && (head[i] | 0x20) == lower; };
+  if (!is(0, 'p') || !is(1, 'l') || !is(2, 'y')) return {};
+  std::size_t first_end = 3;
+  while (first_end < head.size() && !line_end(head[first_end])) ++first_end;
 
   bool binary = false, big_endian = false, have_format = false;
   std::vector<Element> elements;
-  std::string line;
-  std::size_t header_bytes = magic.size() + 1;
+  std::size_t header_bytes = 0;
   bool ended = false;
-  while (std::getline(in, line)) {
-    header_bytes += line.size() + 1;
-    if (header_bytes > kMaxHeaderBytes) return "PLY header longer than 64 kB";
-    if (!line.empty() && line.back() == '\r') line.pop_back();
+  std::size_t start = first_end + 1;
+  if (first_end < head.size() && head[first_end] == '\r' && start < head.size() && head[start] == '\n') ++start;
+  for (std::size_t pos = start; pos < head.size() && !ended;) {
+    std::size_t end = pos;
+    while (end < head.size() && !line_end(head[end])) ++end;
+    if (end >= head.size() && head.size() > kMaxHeaderBytes) return "PLY header longer than 64 kB";
+    const std::string line = head.substr(pos, end - pos);
+    pos = end + 1;
+    // "\r\n" ends one line (the body of a binary file starts after both).
+    if (end < head.size() && head[end] == '\r' && pos < head.size() && head[pos] == '\n') ++pos;
     std::istringstream words(line);
     std::string word;
     words >> word;
     if (word == "end_header") {
       ended = true;
+      header_bytes = std::min(pos, head.size());
       break;
     }
     if (word == "format") {
@@ -268,6 +286,8 @@ std::string check_ply_header(const std::string& path) {
              std::to_string(needed) + " bytes; the file has " + std::to_string(body) + " after its header";
   }
   // The body, read from where the header ended (the file is at most kMeshMaxFileBytes).
+  in.clear();
+  in.seekg(static_cast<std::streamoff>(header_bytes));
   std::string rest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   return binary ? check_binary_lists(elements, rest, big_endian) : check_ascii_lists(elements, std::move(rest));
 }

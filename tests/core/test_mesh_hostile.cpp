@@ -107,6 +107,34 @@ std::string binary_tetra_ply(bool big_endian, std::uint8_t last_count = 3, const
 // Found by the fuzzer: one ASCII face line claiming 399125025 indices made assimp allocate the
 // list (3.2 GB) before reading it. A list may claim at most as many values as its line has
 // characters (ASCII) or its items the bytes left (binary); a shorter line is left to assimp.
+// assimp ends a PLY header line at '\n', '\r', '\0' or '\f'. A header cut by form feeds with
+// no end_header passed the check (it read lines at '\n' only, so the file was no PLY to it) and
+// assimp then looked for the header's end for ever (found by the fuzzer: a timeout).
+TEST_F(HostileMeshes, PlyHeaderLinesEndWhereAssimpEndsThem) {
+  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_ply_formfeed_header",
+                   std::ios::binary);
+  ASSERT_TRUE(in);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_GT(bytes.size(), 1u);
+  expect_refused(write("formfeed.ply", bytes.substr(1)), "PLY header has no end_header");
+  expect_refused(write("formfeed_short.ply", "ply\fformat ascii 1.0\f0 0 0\n"), "PLY header has no end_header");
+  // The rest of the first line is not looked at, and "PLY" is the magic too.
+  expect_refused(write("magic_tail.ply", std::string("ply\x80\xdfmJ\xd4\fformat ascii 1.0\n0 0 0\n")),
+                 "PLY header has no end_header");
+  expect_refused(write("upper_magic.ply", "PLY\nformat ascii 1.0\n0 0 0\n"), "PLY header has no end_header");
+  // Every line end assimp knows, in a well-formed tetrahedron: it loads.
+  for (const char end : {'\n', '\r', '\f'}) {
+    std::string text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                       "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n";
+    for (char& c : text) c = c == '\n' ? end : c;
+    text += "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    SCOPED_TRACE(static_cast<int>(end));
+    const MeshPtr mesh = load_mesh(write("tetra_ends.ply", text));
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(mesh->triangles.size(), 4u);
+  }
+}
+
 TEST_F(HostileMeshes, PlyListCountsAreCheckedBeforeAssimpReadsTheFile) {
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                            "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
