@@ -129,9 +129,10 @@ def case_obstacle(a):
         mission, out = c.mission_in_background(150, ["--add-box", box, "--add-after-s", "1.0"])
         wait_for(lambda: mission.poll() is not None, 300, "porter-mission did not end")
         w = c.watch()
-    if not os.path.exists(out):
-        fail(f"porter-mission wrote no summary (exit {mission.returncode})")
-    s = json.load(open(out))
+        # Read before the case's temporary run folder goes (without --keep).
+        if not os.path.exists(out):
+            fail(f"porter-mission wrote no summary (exit {mission.returncode})")
+        s = json.load(open(out))
     print(s["summary"])
     if not s["box_added"]:
         fail("the box was never added (no trajectory started?)")
