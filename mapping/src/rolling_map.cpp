@@ -274,7 +274,6 @@ void RollingMap::shadow_behind(const Eigen::Vector3f& origin, const Eigen::Vecto
   // visited (a voxel it only clips at a corner, shorter than a quarter voxel, may be skipped).
   const double step = 0.25 * params_.resolution_m;
   const int samples = static_cast<int>(std::ceil(params_.new_surface_shadow_m / step));
-  const float shadow = shadow_log_odds();
   shadow_below(key_end, stats);
   Eigen::Vector3i last = key_end;
   for (int j = 1; j <= samples; ++j) {
@@ -282,31 +281,28 @@ void RollingMap::shadow_behind(const Eigen::Vector3f& origin, const Eigen::Vecto
     if (key == last) continue;
     last = key;
     if (!in_window(key)) return;  // every axis moves monotonically: it does not come back
-    const std::int64_t k = slot(key);
-    if (test_bit(touched_, k)) continue;  // crossed by a ray of this cloud: seen free now
-    float& v = log_odds_[static_cast<std::size_t>(k)];
-    // The shadow runs through the free voxels right behind the surface, and ends at the first
-    // voxel that is not free: behind a static object's surface lies its unseen (unknown) or
-    // occupied inside, and the free space past that is not what the new surface hides.
-    if (v != v || v >= occupancy_log_) return;
-    v = shadow;
-    set_state(k, 2);
-    ++stats.shadowed;
-    shadow_below(key, stats);
+    const Shade s = shade(slot(key), stats);
+    if (s == Shade::end) return;
+    if (s == Shade::set) shadow_below(key, stats);
   }
 }
 
 void RollingMap::shadow_below(const Eigen::Vector3i& key, IntegrateStats& stats) {
-  const float shadow = shadow_log_odds();
-  for (Eigen::Vector3i below(key.x(), key.y(), key.z() - 1); below.z() >= window_min_.z(); --below.z()) {
-    const std::int64_t k = slot(below);
-    if (test_bit(touched_, k)) continue;  // crossed by a ray of this cloud: seen free now
-    float& v = log_odds_[static_cast<std::size_t>(k)];
-    if (v != v || v >= occupancy_log_) return;
-    v = shadow;
-    set_state(k, 2);
-    ++stats.shadowed;
-  }
+  for (Eigen::Vector3i below(key.x(), key.y(), key.z() - 1); below.z() >= window_min_.z(); --below.z())
+    if (shade(slot(below), stats) == Shade::end) return;
+}
+
+RollingMap::Shade RollingMap::shade(std::int64_t k, IntegrateStats& stats) {
+  if (test_bit(touched_, k)) return Shade::seen;  // crossed by a ray of this cloud: seen free now
+  float& v = log_odds_[static_cast<std::size_t>(k)];
+  // A run of shadow goes through free voxels and ends at the first one that is not free: behind
+  // a static object's surface lies its unseen (unknown) or occupied inside, and the free space
+  // past that is not what the new surface hides.
+  if (v != v || v >= occupancy_log_) return Shade::end;
+  v = shadow_log_odds();
+  set_state(k, 2);
+  ++stats.shadowed;
+  return Shade::set;
 }
 
 IntegrateStats RollingMap::integrate(const Eigen::Vector3f& origin_W, const std::vector<Eigen::Vector3f>& points_W,

@@ -147,6 +147,31 @@ ProblemAtWarmStart problem_at_warm_start(const TunnelCase& tc, SvsdfSafetyTerm& 
   return out;
 }
 
+/// The analytic gradient g at x against central differences: along steepest descent (the
+/// analytic slope is -|g|; at h = 1e-6 no near-tied t* switches yet) and along three random
+/// directions from `seed` (kinks of the min over t and windowed minima on their window's edge
+/// leave a few per cent; observed <= 7 %).
+void expect_slopes_match_central_differences(BackendProblem& problem, const Eigen::VectorXd& x,
+                                             const Eigen::VectorXd& g, unsigned seed) {
+  auto slope = [&](const Eigen::VectorXd& d, double h) {
+    const Eigen::VectorXd xp = x + h * d, xm = x - h * d;
+    return (problem.evaluate(xp.data(), nullptr, nullptr) - problem.evaluate(xm.data(), nullptr, nullptr)) / (2 * h);
+  };
+  const Eigen::VectorXd d_steep = -g.normalized();
+  const double fd = slope(d_steep, 1e-6);
+  EXPECT_LT(fd, 0.0);
+  EXPECT_NEAR(fd, g.dot(d_steep), 0.03 * g.norm());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> N(0.0, 1.0);
+  for (int r = 0; r < 3; ++r) {
+    Eigen::VectorXd d(x.size());
+    for (Eigen::Index k = 0; k < d.size(); ++k) d[k] = N(rng);
+    d.normalize();
+    const double analytic = g.dot(d);
+    EXPECT_NEAR(slope(d, 1e-7), analytic, 0.12 * std::abs(analytic)) << "direction " << r;
+  }
+}
+
 TEST(BackendWarmStart, TunnelSeed1GradientIsADescentDirectionMatchingCentralDifferences) {
   const TunnelCase tc = tunnel_case();
   SvsdfSafetyTerm safety(*tc.model, *tc.sdf, tc.settings);
@@ -162,27 +187,7 @@ TEST(BackendWarmStart, TunnelSeed1GradientIsADescentDirectionMatchingCentralDiff
   ASSERT_TRUE(std::isfinite(f0));
   ASSERT_GT(cost.safety, 100.0) << "the fixture must be in collision";
   ASSERT_EQ(cost.safety_stats.inside, 0);
-  auto slope = [&](const Eigen::VectorXd& d, double h) {
-    const Eigen::VectorXd xp = x + h * d, xm = x - h * d;
-    return (problem.evaluate(xp.data(), nullptr, nullptr) - problem.evaluate(xm.data(), nullptr, nullptr)) / (2 * h);
-  };
-  // Steepest descent: the analytic slope is -|g|; at h = 1e-6 no near-tied t* switches yet.
-  const Eigen::VectorXd d_steep = -g.normalized();
-  const double fd = slope(d_steep, 1e-6);
-  EXPECT_LT(fd, 0.0);
-  EXPECT_NEAR(fd, g.dot(d_steep), 0.03 * g.norm());
-  // Random directions: the slope's sign and size (kinks of the min over t and windowed minima
-  // on their window's edge leave a few per cent; observed <= 7 %).
-  std::mt19937 rng(3);
-  std::normal_distribution<double> N(0.0, 1.0);
-  for (int r = 0; r < 3; ++r) {
-    Eigen::VectorXd d(n);
-    for (int k = 0; k < n; ++k) d[k] = N(rng);
-    d.normalize();
-    const double analytic = g.dot(d);
-    const double numeric = slope(d, 1e-7);
-    EXPECT_NEAR(numeric, analytic, 0.12 * std::abs(analytic)) << "direction " << r;
-  }
+  expect_slopes_match_central_differences(problem, x, g, 3);
   // Again at x: the cost does not depend on what was evaluated before (t* hints only speed up).
   BackendCost again;
   EXPECT_EQ(problem.evaluate(x.data(), nullptr, &again), f0);
@@ -473,24 +478,7 @@ TEST(BackendWarmStart, TunnelSeed1WindowProblemGradientMatchesCentralDifferences
   const double f0 = problem.evaluate(x.data(), g.data(), &cost);
   ASSERT_TRUE(std::isfinite(f0));
   ASSERT_GT(cost.safety, 1.0) << "the window holds the collision";
-  auto slope = [&](const Eigen::VectorXd& d, double h) {
-    const Eigen::VectorXd xp = x + h * d, xm = x - h * d;
-    return (problem.evaluate(xp.data(), nullptr, nullptr) - problem.evaluate(xm.data(), nullptr, nullptr)) / (2 * h);
-  };
-  // The same tolerances as the whole problem's test above (kinks of the min over t).
-  const Eigen::VectorXd d_steep = -g.normalized();
-  const double fd = slope(d_steep, 1e-6);
-  EXPECT_LT(fd, 0.0);
-  EXPECT_NEAR(fd, g.dot(d_steep), 0.03 * g.norm());
-  std::mt19937 rng(5);
-  std::normal_distribution<double> N(0.0, 1.0);
-  for (int r = 0; r < 3; ++r) {
-    Eigen::VectorXd d(n);
-    for (int k = 0; k < n; ++k) d[k] = N(rng);
-    d.normalize();
-    const double analytic = g.dot(d);
-    EXPECT_NEAR(slope(d, 1e-7), analytic, 0.12 * std::abs(analytic)) << "direction " << r;
-  }
+  expect_slopes_match_central_differences(problem, x, g, 5);
 }
 
 TEST(BackendWarmStart, TunnelSeed1PieceWindowsSolveHoldsEveryOtherPieceAndPassesTheCheck) {

@@ -191,6 +191,10 @@ class RollingMap {
   void shadow_behind(const Eigen::Vector3f& origin, const Eigen::Vector3f& end, IntegrateStats& stats);
   /// Sets the free voxels below `key` as shadows, down to the first unknown or occupied one.
   void shadow_below(const Eigen::Vector3i& key, IntegrateStats& stats);
+  /// One voxel of a shadow run: crossed by this cloud (kept, the run goes on), set, or the end
+  /// of the run (unknown or occupied).
+  enum class Shade { seen, set, end };
+  Shade shade(std::int64_t slot, IntegrateStats& stats);
 
   RollingMapParams params_;
   double inv_res_;
