@@ -1,6 +1,7 @@
 #include "porter/core/yaml_reader.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <set>
 
@@ -167,6 +168,17 @@ double Reader::as_nonnegative() const {
   return v;
 }
 
+double Reader::as_in(double lo, double hi, const char* unit, bool open_low) const {
+  const double v = as_double();
+  if (!(open_low ? v > lo : v >= lo) || !(v <= hi)) {
+    char buf[200];
+    std::snprintf(buf, sizeof buf, "%g%s%s is out of range %c%g, %g]", v, *unit != '\0' ? " " : "", unit,
+                  open_low ? '(' : '[', lo, hi);
+    fail(buf);
+  }
+  return v;
+}
+
 int Reader::as_int() const {
   const double v = as_double();
   if (v != std::floor(v) || std::abs(v) > 2e9) fail("expected an integer, got " + node_.Scalar());
@@ -211,9 +223,15 @@ Eigen::Vector3d Reader::as_vec3() const {
 Eigen::Isometry3d Reader::as_pose() const {
   expect_keys({"xyz", "rpy"});
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-  if (has("xyz")) T.translation() = get("xyz").as_vec3();
+  // A pose in a config places a part of the robot or the world: within 10 km (the scenes'
+  // bounds), its angles within one turn either way.
+  if (has("xyz")) {
+    T.translation() = get("xyz").as_vec3();
+    if (!(T.translation().cwiseAbs().maxCoeff() <= 1e4)) get("xyz").fail("must be within 1e4 m on each axis");
+  }
   if (has("rpy")) {
     const Eigen::Vector3d rpy = get("rpy").as_vec3();
+    if (!(rpy.cwiseAbs().maxCoeff() <= 6.283185307179586)) get("rpy").fail("angles must be within [-2 pi, 2 pi] rad");
     T.linear() = rpy_to_matrix(rpy[0], rpy[1], rpy[2]);
   }
   return T;

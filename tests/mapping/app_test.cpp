@@ -16,6 +16,7 @@
 #include "mapping_support.hpp"
 #include "porter/core/load_error.hpp"
 #include "porter/lcm_bus.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::mapping {
 namespace {
@@ -484,3 +485,11 @@ TEST(MapperReplay, ARecordedLogReplayedThroughTheMapperGivesTheSameMap) {
 
 }  // namespace
 }  // namespace porter::mapping
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(MapperConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("mapping/porter_mapper.yaml", [](const std::string& f) { porter::mapping::app::load_mapper_config(f); });
+  EXPECT_GE(replaced, 11 * 32);
+}

@@ -9,6 +9,7 @@
 #include "porter/core/load_error.hpp"
 #include "state_config.hpp"
 #include "state_messages.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::state_app {
 namespace {
@@ -149,3 +150,11 @@ TEST(StateMessages, RobotStateCarriesEverything) {
 
 }  // namespace
 }  // namespace porter::state_app
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(StateConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("state/porter_state.yaml", [](const std::string& f) { porter::state_app::load_state_config(f); });
+  EXPECT_GE(replaced, 11 * 13);
+}

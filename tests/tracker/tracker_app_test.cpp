@@ -12,6 +12,7 @@
 #include "tracker_config.hpp"
 #include "tracker_messages.hpp"
 #include "trajectory_fixtures.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::tracker_app {
 namespace {
@@ -153,3 +154,11 @@ TEST(TrackerMessages, CommandsAndStatus) {
 
 }  // namespace
 }  // namespace porter::tracker_app
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(TrackerConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("tracker/porter_tracker.yaml", [](const std::string& f) { porter::tracker_app::load_tracker_config(f); });
+  EXPECT_GE(replaced, 11 * 15);
+}

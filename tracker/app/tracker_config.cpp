@@ -32,32 +32,38 @@ TrackerConfig load_tracker_config(const std::string& path) {
   if (out.sched_priority < 1 || out.sched_priority > 99) {
     loop.get("sched_priority").fail("must be in [1, 99]");
   }
-  out.stats_log_period_s = loop.get("stats_log_period_s").as_positive();
+  // At least hourly; the loop counts it in cycles (rate x period).
+  out.stats_log_period_s = loop.get("stats_log_period_s").as_in(0.1, 3600.0, "s");
   p.period_s = 1.0 / out.rate_hz;
 
   const auto gains = cfg.get("gains");
   gains.expect_keys({"k_x_1ps", "k_y_1pm2", "k_yaw_1pm", "k_yaw_rest_1ps"});
-  p.gains.k_x_1ps = gains.get("k_x_1ps").as_positive();
-  p.gains.k_y_1pm2 = gains.get("k_y_1pm2").as_positive();
-  p.gains.k_yaw_1pm = gains.get("k_yaw_1pm").as_nonnegative();
-  p.gains.k_yaw_rest_1ps = gains.get("k_yaw_rest_1ps").as_nonnegative();
+  // Up to 100 (1/s, 1/m^2, 1/m): a gain times the control period beyond ~1 makes the sampled
+  // loop overshoot; the shipped gains are 0.5-4.
+  p.gains.k_x_1ps = gains.get("k_x_1ps").as_in(0.0, 100.0, "1/s", true);
+  p.gains.k_y_1pm2 = gains.get("k_y_1pm2").as_in(0.0, 100.0, "1/m^2", true);
+  p.gains.k_yaw_1pm = gains.get("k_yaw_1pm").as_in(0.0, 100.0, "1/m");
+  p.gains.k_yaw_rest_1ps = gains.get("k_yaw_rest_1ps").as_in(0.0, 100.0, "1/s");
 
   const auto wd = cfg.get("watchdog");
   wd.expect_keys({"state_timeout_s", "require_arm_state", "trajectory_timeout_s",
                   "trajectory_max_age_s", "max_start_lag_s"});
-  p.state_timeout_s = wd.get("state_timeout_s").as_positive();
+  // Ages and timeouts up to 10 s (commands from a state or trajectory that old are no control),
+  // trajectory_timeout_s up to an hour (0 = off).
+  p.state_timeout_s = wd.get("state_timeout_s").as_in(0.0, 10.0, "s", true);
   p.require_arm_state = wd.get("require_arm_state").as_bool();
-  p.trajectory_timeout_s = wd.get("trajectory_timeout_s").as_nonnegative();
-  p.trajectory_max_age_s = wd.get("trajectory_max_age_s").as_positive();
-  p.max_start_lag_s = wd.get("max_start_lag_s").as_nonnegative();
+  p.trajectory_timeout_s = wd.get("trajectory_timeout_s").as_in(0.0, 3600.0, "s");
+  p.trajectory_max_age_s = wd.get("trajectory_max_age_s").as_in(0.0, 10.0, "s", true);
+  p.max_start_lag_s = wd.get("max_start_lag_s").as_in(0.0, 10.0, "s");
   if (p.state_timeout_s < p.period_s) {
     wd.get("state_timeout_s").fail("must be at least one control period");
   }
 
   const auto fault = cfg.get("fault");
   fault.expect_keys({"max_position_error_m", "max_yaw_error_rad"});
-  p.max_position_error_m = fault.get("max_position_error_m").as_positive();
-  p.max_yaw_error_rad = fault.get("max_yaw_error_rad").as_positive();
+  // The yaw error is wrapped to [-pi, pi]: a limit above pi would never act.
+  p.max_position_error_m = fault.get("max_position_error_m").as_in(0.0, 100.0, "m", true);
+  p.max_yaw_error_rad = fault.get("max_yaw_error_rad").as_in(0.0, 3.14159265358979323846, "rad", true);
 
   const auto arm = cfg.get("arm");
   arm.expect_keys({"speed_pct"});

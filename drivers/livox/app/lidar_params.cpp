@@ -42,7 +42,7 @@ LidarParams load_lidar_params(const std::string& path) {
   if (!parse_ipv4(p.device.host_address, ip)) dev.get("host_address").fail("expected an IPv4 address");
   p.device.host_command_port = port(dev.get("host_command_port"));
   p.device.host_push_port = port(dev.get("host_push_port"));
-  p.device.retry_period_s = dev.get("retry_period_s").as_positive();
+  p.device.retry_period_s = dev.get("retry_period_s").as_in(0.01, 60.0, "s");
 
   const yaml::Reader cloud = root.get("cloud");
   cloud.expect_keys({"rate_hz", "frame_id", "extrinsic", "keep_no_return", "max_points"});
@@ -66,15 +66,15 @@ LidarParams load_lidar_params(const std::string& path) {
 
   const yaml::Reader time = root.get("time");
   time.expect_keys({"host_window_s", "reset_threshold_s", "max_clamp_s"});
-  p.stream.host_time.window_s = time.get("host_window_s").as_nonnegative();
-  p.stream.host_time.reset_threshold_s = time.get("reset_threshold_s").as_positive();
+  p.stream.host_time.window_s = time.get("host_window_s").as_in(0.0, 60.0, "s");
+  p.stream.host_time.reset_threshold_s = time.get("reset_threshold_s").as_in(1e-3, 60.0, "s");
   const yaml::Reader clamp = time.get("max_clamp_s");
   p.stream.host_time.max_clamp_s = clamp.as_nonnegative();
   if (p.stream.host_time.max_clamp_s > 0.01) clamp.fail("must be at most 0.01 s");
 
   p.stream.decode.check_crc = root.get("check_crc").as_bool();
-  p.stream_timeout_s = root.get("stream_timeout_s").as_positive();
-  p.status_log_period_s = root.get("status_log_period_s").as_positive();
+  p.stream_timeout_s = root.get("stream_timeout_s").as_in(0.01, 60.0, "s");
+  p.status_log_period_s = root.get("status_log_period_s").as_in(0.1, 3600.0, "s");
   return p;
 }
 

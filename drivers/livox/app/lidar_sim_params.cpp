@@ -1,5 +1,7 @@
 #include "lidar_sim_params.hpp"
 
+#include <cmath>
+
 #include "porter/core/payload.hpp"
 #include "porter/core/payload_loader.hpp"
 #include "porter/core/robot_loader.hpp"
@@ -44,6 +46,10 @@ LidarSimSetup load_lidar_sim_setup(const std::string& path) {
   for (std::size_t i = 0; i < wps.size(); ++i) {
     const yaml::Reader row = wps.at(i);
     const auto v = row.as_doubles(10);
+    // Times within ~28 h, positions within 10 km, angles within 1e4 rad: the motion is
+    // interpolated between them and sampled at every step.
+    for (const double x : v)
+      if (!(std::abs(x) <= 1e4)) row.fail("values must be within [-1e4, 1e4] (s, m, rad)");
     sim::Waypoint w;
     w.t_s = v[0];
     w.config.base = {v[1], v[2], v[3]};
@@ -67,9 +73,8 @@ LidarSimSetup load_lidar_sim_setup(const std::string& path) {
   s.sampling_at_start = net.get("sampling_at_start").as_bool();
 
   const yaml::Reader step = root.get("step_period_s");
-  s.step_period_s = step.as_positive();
-  if (s.step_period_s > 0.1) step.fail("must be at most 0.1 s");
-  s.duration_s = root.get("duration_s").as_nonnegative();
+  s.step_period_s = step.as_in(1e-4, 0.1, "s");
+  s.duration_s = root.get("duration_s").as_in(0.0, 1e6, "s");
   s.sensor = sim::load_mid360_sim_params(root.get("sensor"), s.robot_file);
   return s;
 }

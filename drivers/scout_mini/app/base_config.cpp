@@ -11,16 +11,6 @@ namespace {
 // The Scout Mini firmware's own yaw-rate limit (ugv_sdk ScoutMiniLimits).
 constexpr double kFirmwareOmegaMax = 2.5235;
 
-double in_range(const yaml::Reader& r, double lo, double hi, const char* unit) {
-  const double v = r.as_double();
-  if (!(v >= lo && v <= hi)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%g %s is out of range [%g, %g]", v, unit, lo, hi);
-    r.fail(buf);
-  }
-  return v;
-}
-
 }  // namespace
 
 BaseNodeConfig load_base_config(const std::string& path) {
@@ -43,9 +33,9 @@ BaseNodeConfig load_base_config(const std::string& path) {
   d.track_width_m = robot.base.track_width_m;
   d.wheel_radius_m = robot.base.wheel_radius_m;
   d.wheel_omega_max_radps = robot.base.wheel_omega_max_radps;
-  const double rate = in_range(root.get("command_rate_hz"), 20.0, 200.0, "Hz");
+  const double rate = root.get("command_rate_hz").as_in(20.0, 200.0, "Hz");
   d.command_period_s = 1.0 / rate;
-  d.command_stale_s = in_range(root.get("command_stale_s"), 2.0 * d.command_period_s, 0.5, "s");
+  d.command_stale_s = root.get("command_stale_s").as_in(2.0 * d.command_period_s, 0.5, "s");
   const double wheel_v_max = d.wheel_omega_max_radps * d.wheel_radius_m;
   d.v_max_mps = root.get("v_max_mps").as_positive();
   if (d.v_max_mps > wheel_v_max + 1e-9) {
@@ -56,12 +46,12 @@ BaseNodeConfig load_base_config(const std::string& path) {
                   d.v_max_mps, wheel_v_max, c.robot_config.c_str());
     root.get("v_max_mps").fail(buf);
   }
-  d.omega_max_radps = in_range(root.get("omega_max_radps"), 1e-3, kFirmwareOmegaMax, "rad/s");
-  d.feedback_timeout_s = in_range(root.get("feedback_timeout_s"), 0.05, 5.0, "s");
-  d.mode_retry_period_s = in_range(root.get("mode_retry_period_s"), 0.02, 5.0, "s");
-  d.odometry_jump_m = in_range(root.get("odometry_jump_m"), 0.01, 10.0, "m");
-  c.stats_period_s = in_range(root.get("stats_period_s"), 1.0, 3600.0, "s");
-  c.realtime_priority = static_cast<int>(in_range(root.get("realtime_priority"), 0, 99, ""));
+  d.omega_max_radps = root.get("omega_max_radps").as_in(1e-3, kFirmwareOmegaMax, "rad/s");
+  d.feedback_timeout_s = root.get("feedback_timeout_s").as_in(0.05, 5.0, "s");
+  d.mode_retry_period_s = root.get("mode_retry_period_s").as_in(0.02, 5.0, "s");
+  d.odometry_jump_m = root.get("odometry_jump_m").as_in(0.01, 10.0, "m");
+  c.stats_period_s = root.get("stats_period_s").as_in(1.0, 3600.0, "s");
+  c.realtime_priority = static_cast<int>(root.get("realtime_priority").as_in(0, 99, ""));
   if (c.realtime_priority != root.get("realtime_priority").as_int()) {
     root.get("realtime_priority").fail("expected an integer");
   }

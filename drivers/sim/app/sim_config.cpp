@@ -1,7 +1,7 @@
 #include "sim_config.hpp"
 
 #include <algorithm>
-#include <cstdio>
+#include <cmath>
 #include <set>
 
 #include "porter/core/yaml_reader.hpp"
@@ -10,36 +10,26 @@
 namespace porter::sim {
 namespace {
 
-double in_range(const yaml::Reader& r, double lo, double hi, const char* unit) {
-  const double v = r.as_double();
-  if (!(v >= lo && v <= hi)) {
-    char buf[160];
-    std::snprintf(buf, sizeof buf, "%g %s is out of range [%g, %g]", v, unit, lo, hi);
-    r.fail(buf);
-  }
-  return v;
-}
-
 void load_scout_mini(const yaml::Reader& r, scout_mini::FirmwareParams& p) {
   r.expect_keys({"linear_accel_max_mps2", "angular_accel_max_radps2", "time_constant_s",
                  "command_timeout_s", "battery_voltage_v", "gear_ratio", "pulses_per_motor_rev"});
-  p.linear_accel_max_mps2 = in_range(r.get("linear_accel_max_mps2"), 0.01, 50.0, "m/s^2");
-  p.angular_accel_max_radps2 = in_range(r.get("angular_accel_max_radps2"), 0.01, 100.0, "rad/s^2");
-  p.time_constant_s = in_range(r.get("time_constant_s"), 0.0, 2.0, "s");
-  p.command_timeout_s = in_range(r.get("command_timeout_s"), 0.02, 10.0, "s");
-  p.battery_voltage_v = in_range(r.get("battery_voltage_v"), 0.0, 60.0, "V");
-  p.gear_ratio = in_range(r.get("gear_ratio"), 0.01, 1000.0, "");
-  p.pulses_per_motor_rev = in_range(r.get("pulses_per_motor_rev"), 1.0, 1e6, "");
+  p.linear_accel_max_mps2 = r.get("linear_accel_max_mps2").as_in(0.01, 50.0, "m/s^2");
+  p.angular_accel_max_radps2 = r.get("angular_accel_max_radps2").as_in(0.01, 100.0, "rad/s^2");
+  p.time_constant_s = r.get("time_constant_s").as_in(0.0, 2.0, "s");
+  p.command_timeout_s = r.get("command_timeout_s").as_in(0.02, 10.0, "s");
+  p.battery_voltage_v = r.get("battery_voltage_v").as_in(0.0, 60.0, "V");
+  p.gear_ratio = r.get("gear_ratio").as_in(0.01, 1000.0, "");
+  p.pulses_per_motor_rev = r.get("pulses_per_motor_rev").as_in(1.0, 1e6, "");
 }
 
 void load_piper(const yaml::Reader& r, PiperSimConfig& p) {
   r.expect_keys({"max_speed_radps", "max_accel_radps2", "enable_delay_s", "gripper_max_m",
                  "gripper_speed_mps"});
-  p.max_speed_radps = in_range(r.get("max_speed_radps"), 0.01, 3.0, "rad/s");
-  p.max_accel_radps2 = in_range(r.get("max_accel_radps2"), 0.01, 1000.0, "rad/s^2");
-  p.enable_delay_s = in_range(r.get("enable_delay_s"), 0.0, 5.0, "s");
-  p.gripper_max_m = in_range(r.get("gripper_max_m"), 0.0, 0.2, "m");
-  p.gripper_speed_mps = in_range(r.get("gripper_speed_mps"), 0.001, 1.0, "m/s");
+  p.max_speed_radps = r.get("max_speed_radps").as_in(0.01, 3.0, "rad/s");
+  p.max_accel_radps2 = r.get("max_accel_radps2").as_in(0.01, 1000.0, "rad/s^2");
+  p.enable_delay_s = r.get("enable_delay_s").as_in(0.0, 5.0, "s");
+  p.gripper_max_m = r.get("gripper_max_m").as_in(0.0, 0.2, "m");
+  p.gripper_speed_mps = r.get("gripper_speed_mps").as_in(0.001, 1.0, "m/s");
 }
 
 std::uint16_t port(const yaml::Reader& r, bool allow_zero) {
@@ -93,17 +83,17 @@ SimConfig load_sim_config(const std::string& path) {
   } else {
     c.payload_path = yaml::resolve_path(path, payload);
   }
-  c.step_s = in_range(root.get("step_s"), 1e-4, 0.02, "s");
-  c.history_s = in_range(root.get("history_s"), 0.1, 60.0, "s");
-  c.truth_rate_hz = in_range(root.get("truth_rate_hz"), 1.0, 1000.0, "Hz");
+  c.step_s = root.get("step_s").as_in(1e-4, 0.02, "s");
+  c.history_s = root.get("history_s").as_in(0.1, 60.0, "s");
+  c.truth_rate_hz = root.get("truth_rate_hz").as_in(1.0, 1000.0, "Hz");
   if (c.truth_rate_hz * c.step_s > 1.0 + 1e-9) {
     root.get("truth_rate_hz").fail("faster than the simulation step (1 / step_s)");
   }
   const yaml::Reader lio = root.get("lio");
   lio.expect_keys({"rate_hz", "position_noise_m", "yaw_noise_rad", "seed"});
-  c.lio_rate_hz = in_range(lio.get("rate_hz"), 1.0, 1000.0, "Hz");
-  c.lio_noise.position_sigma_m = in_range(lio.get("position_noise_m"), 0.0, 10.0, "m");
-  c.lio_noise.yaw_sigma_rad = in_range(lio.get("yaw_noise_rad"), 0.0, 3.2, "rad");
+  c.lio_rate_hz = lio.get("rate_hz").as_in(1.0, 1000.0, "Hz");
+  c.lio_noise.position_sigma_m = lio.get("position_noise_m").as_in(0.0, 10.0, "m");
+  c.lio_noise.yaw_sigma_rad = lio.get("yaw_noise_rad").as_in(0.0, 3.2, "rad");
   const int lio_seed = lio.get("seed").as_int();
   if (lio_seed < 0) lio.get("seed").fail("must be >= 0");
   c.lio_noise.seed = static_cast<std::uint64_t>(lio_seed);
@@ -113,6 +103,8 @@ SimConfig load_sim_config(const std::string& path) {
     if (arm.as_string() != "scene") arm.fail("expected 'scene' or a list of 6 angles (rad)");
   } else {
     const std::vector<double> q = arm.as_doubles(kNumArmJoints);
+    for (const double a : q)
+      if (!(std::abs(a) <= 6.283185307179586)) arm.fail("angles must be within [-2 pi, 2 pi] rad");
     JointVector v;
     for (int i = 0; i < kNumArmJoints; ++i) v[i] = q[static_cast<std::size_t>(i)];
     c.arm_joints_rad = v;
@@ -152,7 +144,7 @@ SimConfig load_sim_config(const std::string& path) {
   load_scout_mini(root.get("scout_mini"), c.scout_mini);
   load_piper(root.get("piper"), c.piper);
   load_lidar(root.get("lidar"), c.robot_path, c.lidar);
-  c.status_period_s = in_range(root.get("status_period_s"), 1.0, 3600.0, "s");
+  c.status_period_s = root.get("status_period_s").as_in(1.0, 3600.0, "s");
   return c;
 }
 

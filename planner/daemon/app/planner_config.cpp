@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "porter/core/load_error.hpp"
+#include "porter/core/scene_loader.hpp"
 #include "porter/core/yaml_reader.hpp"
 #include "porter/pipeline/settings_yaml.hpp"
 
@@ -38,41 +39,44 @@ PlannerConfig load_planner_config(const std::string& path) {
   const auto map = cfg.get("map");
   map.expect_keys({"resolution_m", "max_age_s", "margin_m", "block_m", "min_height_m", "max_voxels", "max_mb",
                    "unknown_below_occupied", "robot_clear_radius_m"});
-  out.map.resolution_m = map.get("resolution_m").as_positive();
-  out.loop.max_map_age_s = map.get("max_age_s").as_positive();
-  out.map.margin_m = map.get("margin_m").as_nonnegative();
-  out.map.block_m = map.get("block_m").as_positive();
-  out.map.min_height_m = map.get("min_height_m").as_positive();
-  out.map.max_voxels = map.get("max_voxels").as_positive();
+  // Lengths within 1 km (the grid is also bounded by max_voxels and max_mb); the resolution in
+  // the planner's range (as for scene files); ages, periods and durations within an hour.
+  out.map.resolution_m = map.get("resolution_m").as_in(kSceneMinResolution_m, kSceneMaxResolution_m, "m");
+  out.loop.max_map_age_s = map.get("max_age_s").as_in(0.0, 3600.0, "s", true);
+  out.map.margin_m = map.get("margin_m").as_in(0.0, 1000.0, "m");
+  out.map.block_m = map.get("block_m").as_in(0.0, 1000.0, "m", true);
+  out.map.min_height_m = map.get("min_height_m").as_in(0.0, 1000.0, "m", true);
+  out.map.max_voxels = map.get("max_voxels").as_in(0.0, 1e10, "voxels", true);
   const int max_mb = map.get("max_mb").as_int();
   if (max_mb < 1 || max_mb > 1024) map.get("max_mb").fail("must be in [1, 1024]");
   out.map.max_bytes = static_cast<std::size_t>(max_mb) << 20;
   const std::string below = map.get("unknown_below_occupied").as_string();
   if (below != "occupied" && below != "free") map.get("unknown_below_occupied").fail("must be 'occupied' or 'free'");
   out.map.fill_unknown_below = below == "occupied";
-  out.map.fill_clear_radius_m = map.get("robot_clear_radius_m").as_nonnegative();
+  out.map.fill_clear_radius_m = map.get("robot_clear_radius_m").as_in(0.0, 100.0, "m");
 
   const auto state = cfg.get("state");
   state.expect_keys({"max_age_s"});
-  out.loop.max_state_age_s = state.get("max_age_s").as_positive();
+  out.loop.max_state_age_s = state.get("max_age_s").as_in(0.0, 3600.0, "s", true);
 
   const auto replan = cfg.get("replan");
   replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed", "arrival_tolerance_m"});
-  out.loop.handoff.lead_s = replan.get("lead_s").as_positive();
-  out.loop.handoff.latency_s = replan.get("latency_s").as_positive();
-  out.loop.collision_step_s = replan.get("collision_step_s").as_positive();
-  out.loop.arrival_tolerance_m = replan.get("arrival_tolerance_m").as_positive();
+  out.loop.handoff.lead_s = replan.get("lead_s").as_in(0.0, 3600.0, "s", true);
+  out.loop.handoff.latency_s = replan.get("latency_s").as_in(0.0, 3600.0, "s", true);
+  // The executing trajectory is sampled at this step on every map: 1 ms at least.
+  out.loop.collision_step_s = replan.get("collision_step_s").as_in(1e-3, 10.0, "s");
+  out.loop.arrival_tolerance_m = replan.get("arrival_tolerance_m").as_in(0.0, 100.0, "m", true);
   out.loop.max_attempts = replan.get("max_attempts").as_int();
-  if (out.loop.max_attempts < 1) replan.get("max_attempts").fail("must be >= 1");
+  if (out.loop.max_attempts < 1 || out.loop.max_attempts > 1000) replan.get("max_attempts").fail("must be in [1, 1000]");
   const int seed = replan.get("seed").as_int();
   if (seed < 0) replan.get("seed").fail("must be >= 0");
   out.loop.seed = static_cast<std::uint64_t>(seed);
 
   const auto braking = cfg.get("braking");
   braking.expect_keys({"base_decel_mps2", "joint_decel_radps2", "min_duration_s"});
-  out.loop.handoff.braking.base_decel_mps2 = braking.get("base_decel_mps2").as_positive();
-  out.loop.handoff.braking.joint_decel_radps2 = braking.get("joint_decel_radps2").as_positive();
-  out.loop.handoff.braking.min_duration_s = braking.get("min_duration_s").as_positive();
+  out.loop.handoff.braking.base_decel_mps2 = braking.get("base_decel_mps2").as_in(0.0, 100.0, "m/s^2", true);
+  out.loop.handoff.braking.joint_decel_radps2 = braking.get("joint_decel_radps2").as_in(0.0, 1e4, "rad/s^2", true);
+  out.loop.handoff.braking.min_duration_s = braking.get("min_duration_s").as_in(0.0, 60.0, "s", true);
 
   out.tick_hz = cfg.get("tick_hz").as_positive();
   if (out.tick_hz > 100.0) cfg.get("tick_hz").fail("must be in (0, 100]");

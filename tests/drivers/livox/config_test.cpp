@@ -12,6 +12,7 @@
 #include "lidar_sim_params.hpp"
 #include "porter/core/load_error.hpp"
 #include "sim_support.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::livox::app {
 namespace {
@@ -137,3 +138,15 @@ TEST(LidarSimConfig, MistakesNameTheKey) {
 
 }  // namespace
 }  // namespace porter::livox::app
+
+// Every number of the shipped files replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(LidarConfigHostile, EveryNumberIsRangeChecked) {
+  EXPECT_GE(porter::test::check_hostile_numbers("drivers/porter_lidar.yaml",
+                                                [](const std::string& f) { porter::livox::app::load_lidar_params(f); }),
+            11 * 20);
+  EXPECT_GE(porter::test::check_hostile_numbers("drivers/porter_lidar_sim.yaml",
+                                                [](const std::string& f) { porter::livox::app::load_lidar_sim_setup(f); }),
+            11 * 31);
+}

@@ -14,6 +14,7 @@
 #include "porter/piper/feedback.hpp"
 #include "porter/core/load_error.hpp"
 #include "porter_arm_params.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::piper {
 namespace {
@@ -207,3 +208,11 @@ TEST(PorterArmMessages, StateIsStampedWithTheJointFramesOwnTime) {
 
 }  // namespace
 }  // namespace porter::piper
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(ArmConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("drivers/porter_arm.yaml", [](const std::string& f) { porter::piper::load_porter_arm_params(f); });
+  EXPECT_GE(replaced, 11 * 11);
+}

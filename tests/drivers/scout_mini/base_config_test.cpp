@@ -11,6 +11,7 @@
 #include "base_config.hpp"
 #include "base_messages.hpp"
 #include "porter/core/load_error.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::scout_mini {
 namespace {
@@ -137,3 +138,11 @@ TEST(BaseMessages, FeedbackBecomesBaseState) {
 
 }  // namespace
 }  // namespace porter::scout_mini
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(BaseConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("drivers/porter_base.yaml", [](const std::string& f) { porter::scout_mini::load_base_config(f); });
+  EXPECT_GE(replaced, 11 * 9);
+}

@@ -15,6 +15,7 @@
 #include "sim_config.hpp"
 #include "sim_messages.hpp"
 #include "sim_process.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::sim {
 namespace {
@@ -211,3 +212,11 @@ TEST(SimProcessTest, BuildsTheWorldFromTheSceneRobotAndPayloadFiles) {
 
 }  // namespace
 }  // namespace porter::sim
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(SimConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("drivers/porter_sim.yaml", [](const std::string& f) { porter::sim::load_sim_config(f); });
+  EXPECT_GE(replaced, 11 * 49);
+}

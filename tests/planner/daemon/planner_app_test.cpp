@@ -19,6 +19,7 @@
 #include "porter/core/load_error.hpp"
 #include "porter/lcm_bus.hpp"
 #include "porter/runtime/clock.hpp"
+#include "hostile_config.hpp"
 
 namespace porter::planner_app {
 namespace {
@@ -466,3 +467,11 @@ TEST_F(NodeTest, AMalformedGoalIsRefusedAtOnce) {
 
 }  // namespace
 }  // namespace porter::planner_app
+
+// Every number of the shipped file replaced by hostile values: NaN, infinities and 1e300 are
+// refused naming the file; 0, -1, 1e-300, 1e9 load or are refused, never crash
+// (tests/support/hostile_config.hpp).
+TEST(PlannerConfigHostile, EveryNumberIsRangeChecked) {
+  const int replaced = porter::test::check_hostile_numbers("planner/porter_planner.yaml", [](const std::string& f) { porter::planner_app::load_planner_config(f); });
+  EXPECT_GE(replaced, 11 * 18);
+}

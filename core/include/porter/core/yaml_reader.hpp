@@ -61,13 +61,19 @@ class Reader {
   double as_double() const;
   double as_positive() const;      ///< > 0
   double as_nonnegative() const;   ///< >= 0
+  /// A number in [lo, hi] (in (lo, hi] when `open_low`). Every number a process config holds is
+  /// read this way: the bounds keep products with rates and periods, conversions to integers and
+  /// allocations sized from it well defined. `unit` is named in the error, e.g.
+  /// "key 'loop.rate_hz': 1e+308 Hz is out of range [1, 1000]".
+  double as_in(double lo, double hi, const char* unit = "", bool open_low = false) const;
   int as_int() const;
   bool as_bool() const;
   std::string as_string() const;
   std::vector<double> as_doubles(std::size_t expected_size = 0) const;  ///< 0 = any length
   std::vector<std::string> as_strings() const;
   Eigen::Vector3d as_vec3() const;
-  /// {xyz: [..], rpy: [..]} (both optional, default zero) -> transform (URDF rpy convention).
+  /// {xyz: [..], rpy: [..]} (both optional, default zero) -> transform (URDF rpy convention);
+  /// xyz within 1e4 m on each axis, rpy within [-2 pi, 2 pi].
   Eigen::Isometry3d as_pose() const;
 
   [[noreturn]] void fail(const std::string& reason) const;

@@ -1,11 +1,15 @@
 #include "porter/livox_sim/sim_config.hpp"
 
+#include <cmath>
+
 #include <urdf_parser/urdf_parser.h>
 
 #include "porter/core/load_error.hpp"
 
 namespace porter::livox::sim {
 namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
 
 Eigen::Isometry3d to_eigen(const urdf::Pose& p) {
   Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
@@ -14,15 +18,6 @@ Eigen::Isometry3d to_eigen(const urdf::Pose& p) {
                    .normalized()
                    .toRotationMatrix();
   return T;
-}
-
-double in_range(const yaml::Reader& r, double lo, double hi) {
-  const double v = r.as_double();
-  if (v < lo || v > hi) {
-    r.fail("must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
-           std::to_string(v));
-  }
-  return v;
 }
 
 }  // namespace
@@ -56,9 +51,11 @@ Mid360SimParams load_mid360_sim_params(const yaml::Reader& s, const std::string&
                  "time_type", "imu", "mount", "ground_plane", "tessellation_tolerance_m",
                  "state_sample_period_s", "seed"});
   Mid360SimParams p;
-  p.pattern.point_rate_hz = s.get("point_rate_hz").as_positive();
-  p.pattern.rotation_hz = s.get("rotation_hz").as_positive();
-  p.frame_rate_hz = s.get("frame_rate_hz").as_positive();
+  // Rates bound the points and packets built per frame and per simulation step (the MID-360:
+  // 200,000 points/s, 10 Hz frames; 2e6 points/s is ten times the sensor).
+  p.pattern.point_rate_hz = s.get("point_rate_hz").as_in(1e3, 2e6, "points/s");
+  p.pattern.rotation_hz = s.get("rotation_hz").as_in(0.1, 100.0, "Hz");
+  p.frame_rate_hz = s.get("frame_rate_hz").as_in(0.1, 100.0, "Hz");
   const yaml::Reader el = s.get("elevation_deg");
   const auto e = el.as_doubles(2);
   if (!(e[0] < e[1]) || e[0] < -90.0 || e[1] > 90.0) {
@@ -66,12 +63,13 @@ Mid360SimParams load_mid360_sim_params(const yaml::Reader& s, const std::string&
   }
   p.pattern.elevation_min_deg = e[0];
   p.pattern.elevation_max_deg = e[1];
-  p.min_range_m = s.get("min_range_m").as_nonnegative();
+  // Ranges within 1 km (the MID-360 reaches 70 m): the ray caster's march is bounded by it.
+  p.min_range_m = s.get("min_range_m").as_in(0.0, 1000.0, "m");
   const yaml::Reader max_r = s.get("max_range_m");
-  p.max_range_m = max_r.as_positive();
+  p.max_range_m = max_r.as_in(0.0, 1000.0, "m", true);
   if (!(p.max_range_m > p.min_range_m)) max_r.fail("must exceed min_range_m");
-  p.range_noise_stddev_m = s.get("range_noise_stddev_m").as_nonnegative();
-  p.dropout_probability = in_range(s.get("dropout_probability"), 0.0, 1.0);
+  p.range_noise_stddev_m = s.get("range_noise_stddev_m").as_in(0.0, 10.0, "m");
+  p.dropout_probability = s.get("dropout_probability").as_in(0.0, 1.0);
 
   const yaml::Reader dt = s.get("data_type");
   const std::string data_type = dt.as_string();
@@ -90,17 +88,21 @@ Mid360SimParams load_mid360_sim_params(const yaml::Reader& s, const std::string&
   imu.expect_keys({"enabled", "rate_hz", "gyro_noise_stddev_radps", "accel_noise_stddev_mps2",
                    "position_m"});
   p.imu_enabled = imu.get("enabled").as_bool();
-  p.imu_rate_hz = imu.get("rate_hz").as_positive();
-  p.gyro_noise_stddev_radps = imu.get("gyro_noise_stddev_radps").as_nonnegative();
-  p.accel_noise_stddev_mps2 = imu.get("accel_noise_stddev_mps2").as_nonnegative();
+  p.imu_rate_hz = imu.get("rate_hz").as_in(1.0, 1000.0, "Hz");
+  p.gyro_noise_stddev_radps = imu.get("gyro_noise_stddev_radps").as_in(0.0, 100.0, "rad/s");
+  p.accel_noise_stddev_mps2 = imu.get("accel_noise_stddev_mps2").as_in(0.0, 1000.0, "m/s^2");
   p.p_S_imu_m = imu.get("position_m").as_vec3();
+  // A sensor's parts and its mount lie within metres of the link that carries it.
+  if (!(p.p_S_imu_m.cwiseAbs().maxCoeff() <= 10.0)) imu.get("position_m").fail("must be within 10 m of the sensor");
 
   const yaml::Reader mount = s.get("mount");
   mount.expect_keys({"link", "xyz", "rpy"});
   const std::string link = mount.get("link").as_string();
   Eigen::Isometry3d T_link_S = Eigen::Isometry3d::Identity();
   T_link_S.translation() = mount.get("xyz").as_vec3();
+  if (!(T_link_S.translation().cwiseAbs().maxCoeff() <= 10.0)) mount.get("xyz").fail("must be within 10 m of the link");
   const Eigen::Vector3d rpy = mount.get("rpy").as_vec3();
+  if (!(rpy.cwiseAbs().maxCoeff() <= kTwoPi)) mount.get("rpy").fail("angles must be within [-2 pi, 2 pi] rad");
   T_link_S.linear() = yaml::rpy_to_matrix(rpy[0], rpy[1], rpy[2]);
   try {
     p.T_B_S = fixed_link_pose(robot_yaml_path, link) * T_link_S;
@@ -109,8 +111,9 @@ Mid360SimParams load_mid360_sim_params(const yaml::Reader& s, const std::string&
   }
 
   p.scene.ground_plane = s.get("ground_plane").as_bool();
-  p.scene.tessellation_tolerance_m = s.get("tessellation_tolerance_m").as_positive();
-  p.state_sample_period_s = s.get("state_sample_period_s").as_positive();
+  // Below 10 um a cylinder's tessellation grows without need; above 10 cm shapes lose their form.
+  p.scene.tessellation_tolerance_m = s.get("tessellation_tolerance_m").as_in(1e-5, 0.1, "m");
+  p.state_sample_period_s = s.get("state_sample_period_s").as_in(1e-4, 0.1, "s");
   const int seed = s.get("seed").as_int();
   if (seed < 0) s.get("seed").fail("must not be negative");
   p.seed = static_cast<std::uint64_t>(seed);
