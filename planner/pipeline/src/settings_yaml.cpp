@@ -23,9 +23,9 @@ void load_pipeline_yaml(const std::string& file, PlannerSettings& s) {
   PipelineSettings& p = s.pipeline;
   {
     const Fields f(top.section("budgets"), {"frontend_s", "midend_s", "backend_s"});
-    f.positive("frontend_s", p.frontend_budget_s);
-    f.positive("midend_s", p.midend_budget_s);
-    f.positive("backend_s", p.backend_budget_s);
+    f.positive("frontend_s", p.frontend_budget_s, kMaxTime_s);
+    f.positive("midend_s", p.midend_budget_s, kMaxTime_s);
+    f.positive("backend_s", p.backend_budget_s, kMaxTime_s);
   }
   top.choice("collision", p.collision, baselines::parse_collision_model, "kernels, spheres");
   top.choice(
@@ -40,7 +40,7 @@ void load_pipeline_yaml(const std::string& file, PlannerSettings& s) {
   top.flag("choose_warm_start_by_safety", p.choose_warm_start_by_safety);
   {
     const Fields f(top.section("goal"), {"position_tolerance_m", "yaw_tolerance_rad", "free_arm_candidates"});
-    f.nonnegative("position_tolerance_m", p.goal_position_tolerance_m);
+    f.nonnegative("position_tolerance_m", p.goal_position_tolerance_m, kMaxLength_m);
     f.number("yaw_tolerance_rad", p.goal_yaw_tolerance_rad, 0.0, 3.14159265358979323846);
     f.integer("free_arm_candidates", p.free_arm_candidates, 0, 100000);
   }
@@ -49,26 +49,26 @@ void load_pipeline_yaml(const std::string& file, PlannerSettings& s) {
     const Fields f(top.section("kernels"), {"resolution_m", "max_sample_error_m", "base_yaw_samples", "lattice_subdivision",
                                             "safety_margin_m", "distance_cap_m", "motion_step_m", "self_collision"});
     f.number("resolution_m", k.kernels.resolution_m, 0.005, 1.0);
-    f.nonnegative("max_sample_error_m", k.kernels.max_sample_error_m);
+    f.zero_or_in("max_sample_error_m", k.kernels.max_sample_error_m, kMinCell_m, kMaxLength_m);
     f.integer("base_yaw_samples", k.kernels.base_yaw_samples, 0, 4096);
     f.integer("lattice_subdivision", k.kernels.lattice_subdivision, 1, 8);
-    f.nonnegative("safety_margin_m", k.map.safety_margin_m);
-    f.positive("distance_cap_m", k.map.distance_cap_m);
-    f.nonnegative("motion_step_m", k.motion_step_m);
+    f.nonnegative("safety_margin_m", k.map.safety_margin_m, kMaxLength_m);
+    f.positive("distance_cap_m", k.map.distance_cap_m, kMaxLength_m);
+    f.zero_or_in("motion_step_m", k.motion_step_m, kMinCell_m, kMaxLength_m);
     const Fields self(f.section("self_collision"),
                       {"check", "sample_spacing_m", "prove_pairs", "proof_max_boxes", "proof_min_cell_m"});
     self.flag("check", k.check_self_collision);
     self.number("sample_spacing_m", k.self.sample_spacing_m, 0.001, 0.1);
     self.flag("prove_pairs", k.self.prove_pairs);
     self.integer("proof_max_boxes", k.self.proof_max_boxes, 1);
-    self.positive("proof_min_cell_m", k.self.proof_min_cell_m);
+    self.number("proof_min_cell_m", k.self.proof_min_cell_m, kMinCell_m, kMaxLength_m);
   }
   {
     const Fields f(top.section("spheres"), {"cell_m", "max_distance_m", "check_self_collision", "motion_step_m"});
-    f.positive("cell_m", s.spheres.cover.cell_m);
-    f.positive("max_distance_m", s.spheres.max_distance_m);
+    f.number("cell_m", s.spheres.cover.cell_m, kMinCell_m, kMaxLength_m);
+    f.positive("max_distance_m", s.spheres.max_distance_m, kMaxLength_m);
     f.flag("check_self_collision", s.spheres.check_self_collision);
-    f.nonnegative("motion_step_m", s.spheres.motion_step_m);
+    f.zero_or_in("motion_step_m", s.spheres.motion_step_m, kMinCell_m, kMaxLength_m);
   }
 }
 
@@ -81,12 +81,12 @@ void load_backend_yaml(const std::string& file, PlannerSettings& s) {
                                            "max_line_search", "line_search", "variable_scale", "probe_first_step",
                                            "skip_safety_above_current"});
     f.integer("max_iterations", b.max_iterations, 1);
-    f.positive("relative_cost_tolerance", b.relative_cost_tolerance);
+    f.positive("relative_cost_tolerance", b.relative_cost_tolerance, kMaxWeight);
     f.integer("relative_cost_past", b.relative_cost_past, 1);
     f.integer("memory_size", b.memory_size, 3, 64);
     f.integer("max_line_search", b.max_line_search, 1);
     f.choice("line_search", b.line_search, detail::parse_line_search, detail::kLineSearches);
-    f.positive("variable_scale", b.variable_scale);
+    f.positive("variable_scale", b.variable_scale, kMaxWeight);
     f.flag("probe_first_step", b.probe_first_step);
     f.flag("skip_safety_above_current", b.skip_safety_above_current);
   }
@@ -104,33 +104,33 @@ void load_backend_yaml(const std::string& file, PlannerSettings& s) {
     backend::SvsdfSafetySettings& t = s.safety_terms.svsdf;
     const Fields f(top.section("kc_svsdf"),
                    {"weight", "threads", "freeze_ball_decisions", "selection_slack_m", "prefilter_slack_m"});
-    f.positive("weight", t.weight);
+    f.positive("weight", t.weight, kMaxWeight);
     f.integer("threads", t.threads, 1, 64);
     f.flag("freeze_ball_decisions", t.freeze_ball_decisions);
-    f.nonnegative("selection_slack_m", t.selection_slack_m);
-    f.nonnegative("prefilter_slack_m", t.prefilter_slack_m);
+    f.nonnegative("selection_slack_m", t.selection_slack_m, kMaxLength_m);
+    f.nonnegative("prefilter_slack_m", t.prefilter_slack_m, kMaxLength_m);
   }
   {
     baselines::SphereSafetySettings& t = s.safety_terms.spheres;
     const Fields f(top.section("spheres"),
                    {"cell_m", "safety_margin_m", "weight", "samples_per_piece", "crop_margin_m", "max_distance_m"});
-    f.positive("cell_m", t.cover.cell_m);
-    f.positive("safety_margin_m", t.safety_margin_m);
-    f.positive("weight", t.weight);
+    f.number("cell_m", t.cover.cell_m, kMinCell_m, kMaxLength_m);
+    f.positive("safety_margin_m", t.safety_margin_m, kMaxLength_m);
+    f.positive("weight", t.weight, kMaxWeight);
     f.integer("samples_per_piece", t.samples_per_piece, 1, 1024);
-    f.nonnegative("crop_margin_m", t.crop_margin_m);
-    f.positive("max_distance_m", t.max_distance_m);
+    f.nonnegative("crop_margin_m", t.crop_margin_m, kMaxLength_m);
+    f.positive("max_distance_m", t.max_distance_m, kMaxLength_m);
   }
   {
     backend::SelfCollisionTermSettings& t = s.self_collision;
     const Fields f(top.section("self_collision"), {"weight", "sample_interval_s", "point_spacing_m", "slack_m",
                                                    "relative_to_warm_start", "warm_start_slack_m"});
-    f.positive("weight", t.weight);
-    f.positive("sample_interval_s", t.sample_interval_s);
-    f.positive("point_spacing_m", t.point_spacing_m);
-    f.nonnegative("slack_m", t.slack_m);
+    f.positive("weight", t.weight, kMaxWeight);
+    f.number("sample_interval_s", t.sample_interval_s, kMinStep_s, kMaxTime_s);
+    f.number("point_spacing_m", t.point_spacing_m, kMinCell_m, kMaxLength_m);
+    f.nonnegative("slack_m", t.slack_m, kMaxLength_m);
     f.flag("relative_to_warm_start", t.relative_to_warm_start);
-    f.nonnegative("warm_start_slack_m", t.warm_start_slack_m);
+    f.nonnegative("warm_start_slack_m", t.warm_start_slack_m, kMaxLength_m);
   }
   detail::check(file, [&](std::string* why) { return backend::validate_settings(b, why); });
 }

@@ -14,6 +14,20 @@
 
 namespace porter::pipeline::detail {
 
+// Upper bounds of the planner's settings by unit: 1 km, an hour, a turn, 1 km/s; weights, costs,
+// factors and tolerances up to 1e12 (the shipped ones are 1e-9 to 1e6). Beyond them a setting
+// plans no robot, and the bounds keep the products and counts made from settings finite.
+inline constexpr double kMaxLength_m = 1000.0;
+inline constexpr double kMaxTime_s = 3600.0;
+inline constexpr double kMaxAngle_rad = 6.283185307179586;
+inline constexpr double kMaxSpeed = 1000.0;  ///< m/s, m/s^3
+inline constexpr double kMaxWeight = 1e12;
+// Smallest cells and steps of the grids and samplings the settings size: below them a scene's
+// cells or a trajectory's samples outnumber memory (the shipped ones are 0.5 mm-0.3 m, 20 ms).
+inline constexpr double kMinCell_m = 1e-4;
+inline constexpr double kMinStep_s = 1e-4;
+inline constexpr double kMinStep_rad = 1e-4;
+
 /// A map whose keys must be exactly the given ones (unknown: LoadError; missing: LoadError when
 /// read).
 class Fields {
@@ -30,8 +44,16 @@ class Fields {
     if (!ok) v.fail("must be in " + interval(lo, hi, lo_open, hi_open) + ", got " + v.node().Scalar());
     out = x;
   }
-  void positive(const char* key, double& out) const { number(key, out, 0.0, kInf, true, false); }
-  void nonnegative(const char* key, double& out) const { number(key, out, 0.0, kInf); }
+  /// (0, hi]
+  void positive(const char* key, double& out, double hi) const { number(key, out, 0.0, hi, true, false); }
+  /// [0, hi]
+  void nonnegative(const char* key, double& out, double hi) const { number(key, out, 0.0, hi); }
+  /// 0 (off, or derived from other settings) or in [lo, hi]: between 0 and lo a step or a cell
+  /// would make its count explode.
+  void zero_or_in(const char* key, double& out, double lo, double hi) const {
+    number(key, out, 0.0, hi);
+    if (out > 0.0 && out < lo) r_.get(key).fail("must be 0 or in " + interval(lo, hi, false, false) + ", got " + r_.get(key).node().Scalar());
+  }
   /// (0, 1]
   void fraction(const char* key, double& out) const { number(key, out, 0.0, 1.0, true, false); }
   /// [0, 1]

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "pipeline_fixtures.hpp"
+#include "hostile_config.hpp"
 #include "porter/core/load_error.hpp"
 
 namespace porter::pipeline {
@@ -310,3 +311,15 @@ TEST(PlannerSettingsYaml, AMissingFileIsRefusedNamingIt) {
 
 }  // namespace
 }  // namespace porter::pipeline
+
+// Every number of the four shipped files replaced by hostile values: NaN, infinities and 1e300
+// are refused naming the file (or, for a check across the files, the directory's *.yaml);
+// 0, -1, 1e-300, 1e9 load or are refused, never crash (tests/support/hostile_config.hpp).
+TEST(PlannerSettingsHostile, EveryNumberIsRangeChecked) {
+  const auto load = [](const std::string& f) {
+    porter::pipeline::load_planner_settings(std::filesystem::path(f).parent_path().string());
+  };
+  for (const char* file : {"planner/pipeline.yaml", "planner/frontend.yaml", "planner/midend.yaml", "planner/backend.yaml"}) {
+    EXPECT_GE(porter::test::check_hostile_numbers(file, load, "*.yaml"), 11 * 10) << file;
+  }
+}
