@@ -190,7 +190,7 @@ int main(int argc, char** argv) {
   std::uint64_t lost_reports = 0, reported_cycle = 0;
   auto reported_health = rt::HeartbeatHealth::ok;
   const auto status_every = static_cast<std::uint64_t>(config.rate_hz / config.status_rate_hz + 0.5);
-  const auto stats_every = static_cast<std::uint64_t>(config.stats_log_period_s * config.rate_hz);
+  const auto stats_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(config.stats_log_period_s * config.rate_hz + 0.5));
   // A report at least every 0.1 s, so the publisher's heartbeat is never more than that late.
   const auto report_every = std::max<std::uint64_t>(1, static_cast<std::uint64_t>(config.rate_hz / 10.0));
   const double start_s = rt::mono_s();
