@@ -11,6 +11,8 @@ namespace porter::pipeline {
 namespace {
 
 using detail::Fields;
+using detail::kMaxAngle_rad, detail::kMaxLength_m, detail::kMaxSpeed, detail::kMaxTime_s, detail::kMaxWeight;
+using detail::kMinCell_m, detail::kMinStep_rad, detail::kMinStep_s;
 
 }  // namespace
 

@@ -8,6 +8,8 @@
 namespace porter::pipeline {
 
 using detail::Fields;
+using detail::kMaxAngle_rad, detail::kMaxLength_m, detail::kMaxSpeed, detail::kMaxTime_s, detail::kMaxWeight;
+using detail::kMinCell_m, detail::kMinStep_rad, detail::kMinStep_s;
 
 void load_frontend_yaml(const std::string& file, frontend::FrontendSettings& s) {
   const yaml::Reader root = yaml::Reader::load_file(file);

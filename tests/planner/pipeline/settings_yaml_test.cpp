@@ -290,7 +290,7 @@ TEST_F(EditedSettings, AnAbsurdBudgetIsRefusedNamingIt) {
   edit("pipeline.yaml", "  frontend_s: 1.0 ", "  frontend_s: 1e9 ");
   const std::string e = error();
   EXPECT_NE(e.find("pipeline"), std::string::npos) << e;
-  EXPECT_NE(e.find("frontend_budget_s"), std::string::npos) << e;
+  EXPECT_NE(e.find("budgets.frontend_s"), std::string::npos) << e;
   EXPECT_NE(e.find("(0, 3600]"), std::string::npos) << e;
 }
 
