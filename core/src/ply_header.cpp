@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -55,6 +56,14 @@ bool is_float_type(const std::string& t) {
 // A list count as assimp turns it into an unsigned int (ConvertTo<unsigned int>): an unsigned
 // type keeps its leading digits, a negative signed count wraps to ~4e9, a float is truncated.
 // Returned as a double so that every one of those compares with what the file can hold.
+// A claimed count for an error message: it may be any double (a 125-digit ASCII count, an infinite
+// binary double), which no integer type holds.
+std::string count_text(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.15g", n);
+  return buf;
+}
+
 double ascii_list_count(const std::string& token, const std::string& type) {
   if (is_float_type(type)) {
     const double v = std::strtod(token.c_str(), nullptr);
@@ -120,7 +129,7 @@ std::string check_ascii_lists(const std::vector<Element>& elements, std::string 
         const double n = ascii_list_count(tokens[at++], p.count_type);
         if (n > static_cast<double>(line.size()))
           return "PLY " + e.name + " " + std::to_string(k) + " has a list of " +
-                 std::to_string(static_cast<unsigned long long>(n)) + " values on a line of " +
+                 count_text(n) + " values on a line of " +
                  std::to_string(line.size()) + " characters";
         at += static_cast<std::size_t>(n);
       }
@@ -172,7 +181,7 @@ std::string check_binary_lists(const std::vector<Element>& elements, const std::
         const std::size_t left = body.size() - at;
         if (n * p.bytes > static_cast<double>(left))
           return "PLY " + e.name + " " + std::to_string(k) + " has a list of " +
-                 std::to_string(static_cast<unsigned long long>(n)) + " values of " + std::to_string(p.bytes) +
+                 count_text(n) + " values of " + std::to_string(p.bytes) +
                  " bytes with " + std::to_string(left) + " bytes left";
         at += static_cast<std::size_t>(n) * static_cast<std::size_t>(p.bytes);
       }

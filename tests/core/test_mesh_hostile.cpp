@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -98,7 +99,12 @@ std::string binary_tetra_ply(bool big_endian, std::uint8_t last_count = 3, const
   const std::uint32_t f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
   for (int k = 0; k < 4; ++k) {
     const std::uint32_t n = k == 3 ? last_count : 3;
-    put(&n, count_type == "uchar" ? 1 : 4);
+    if (count_type == "double") {
+      const double d = n;
+      put(&d, 8);
+    } else {
+      put(&n, count_type == "uchar" ? 1 : 4);
+    }
     for (const std::uint32_t i : f[k]) put(&i, 4);
   }
   return text;
@@ -171,6 +177,28 @@ TEST_F(HostileMeshes, PlyListCountsAreCheckedBeforeAssimpReadsTheFile) {
     const std::size_t last_count = wide.size() - 16;  // the last face: a 4-byte count, 3 indices
     wide.replace(last_count, 4, std::string(4, '\xff'));
     expect_refused(write("binary_uint_list.ply", wide), "has a list of 4294967295 values");
+  }
+}
+
+// Found by libFuzzer under UBSan: a list count no integer type holds (125 ASCII digits; a binary
+// double that is infinite) was converted to one for the refusal's message.
+TEST_F(HostileMeshes, PlyListCountsBeyondEveryIntegerAreRefusedAndNamed) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                           "0 0 0\n1 0 0\n0 1 0\n";
+  expect_refused(write("digits.ply", head + "1" + std::string(124, '0') + " 0 1 2\n"),
+                 "PLY face 0 has a list of 1e+124 values");
+  for (const bool big : {false, true}) {
+    SCOPED_TRACE(big ? "big endian" : "little endian");
+    std::string ply = binary_tetra_ply(big, 3, "double");
+    const MeshPtr mesh = load_mesh(write("binary_double.ply", ply));
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(mesh->triangles.size(), 4u);
+    const double inf = std::numeric_limits<double>::infinity();
+    std::string count(reinterpret_cast<const char*>(&inf), 8);  // the host is little-endian
+    if (big) std::reverse(count.begin(), count.end());
+    ply.replace(ply.size() - 20, 8, count);  // the last face: an 8-byte count, 3 indices
+    expect_refused(write("binary_inf.ply", ply), "PLY face 3 has a list of inf values");
   }
 }
 
