@@ -226,6 +226,14 @@ std::string check_ply_header(const std::string& path) {
     std::istringstream words(line);
     std::string word;
     words >> word;
+    // assimp's TokenMatch: the line starts with the word, and a space, a tab or the line's end
+    // follows it. To istream ">>" a vertical tab ends the word too, so "end_header\v..." ended
+    // this header while assimp searched on for its end for ever (found by the fuzzer).
+    if (word == "end_header" && (line.compare(0, 10, "end_header") != 0 ||
+                                 (line.size() > 10 && line[10] != ' ' && line[10] != '\t'))) {
+      return "PLY end_header line is not one assimp reads (a space, a tab or the line's end must follow the word, "
+             "at the start of the line)";
+    }
     if (word == "end_header") {
       ended = true;
       header_bytes = std::min(pos, head.size());
