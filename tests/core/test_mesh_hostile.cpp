@@ -256,6 +256,10 @@ TEST_F(HostileMeshes, OffCountsAreCheckedBeforeAssimpReadsTheFile) {
                  "OFF face 3 does not start with a corner count in [1, 9]");
   // Within the limits, more than the file has lines for.
   expect_refused(write("short.off", tetra_off("OFF", "4 1000 0")), "the file has 10 lines");
+  // Found by the fuzzer (UBSan only, out of memory): assimp reads the counts right after the
+  // keyword, so this 18-byte file claimed 436398308 vertices and took it past 3.5 GB.
+  expect_refused(write("glued.off", "OFF436398308 8757"), "OFF header claims 436398308 vertices");
+  expect_refused(write("glued_faces.off", tetra_off("OFF4", "3000000 0")), "3000000 faces");
 }
 
 // A 96 MB OBJ of "f 1 2 3" lines took assimp to 2.7 GB (~200 B per face).
