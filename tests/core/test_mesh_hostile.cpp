@@ -110,6 +110,14 @@ std::string binary_tetra_ply(bool big_endian, std::uint8_t last_count = 3, const
   return text;
 }
 
+// A fuzz input kept in tests/fuzz/corpus/mesh_loader/, without its first byte (the target's
+// choice of file extension); empty when the file is missing or has no more than that byte.
+std::string corpus_mesh(const std::string& name) {
+  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/" + name, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return bytes.size() > 1 ? bytes.substr(1) : std::string();
+}
+
 // Found by the fuzzer: one ASCII face line claiming 399125025 indices made assimp allocate the
 // list (3.2 GB) before reading it. A list may claim at most as many values as its line has
 // characters (ASCII) or its items the bytes left (binary); a shorter line is left to assimp.
@@ -117,12 +125,9 @@ std::string binary_tetra_ply(bool big_endian, std::uint8_t last_count = 3, const
 // no end_header passed the check (it read lines at '\n' only, so the file was no PLY to it) and
 // assimp then looked for the header's end for ever (found by the fuzzer: a timeout).
 TEST_F(HostileMeshes, PlyHeaderLinesEndWhereAssimpEndsThem) {
-  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_ply_formfeed_header",
-                   std::ios::binary);
-  ASSERT_TRUE(in);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1u);
-  expect_refused(write("formfeed.ply", bytes.substr(1)), "PLY header has no end_header");
+  const std::string bytes = corpus_mesh("regression_ply_formfeed_header");
+  ASSERT_FALSE(bytes.empty());
+  expect_refused(write("formfeed.ply", bytes), "PLY header has no end_header");
   expect_refused(write("formfeed_short.ply", "ply\fformat ascii 1.0\f0 0 0\n"), "PLY header has no end_header");
   // The rest of the first line is not looked at, and "PLY" is the magic too.
   expect_refused(write("magic_tail.ply", std::string("ply\x80\xdfmJ\xd4\fformat ascii 1.0\n0 0 0\n")),
@@ -152,12 +157,9 @@ TEST_F(HostileMeshes, PlyListCountsAreCheckedBeforeAssimpReadsTheFile) {
   signed_head.replace(signed_head.find("list uchar int"), 14, "list int int");
   expect_refused(write("negative_list.ply", signed_head + "-1 1 2 3\n"), "has a list of 4294967295 values");
   // The fuzzer's file itself (after its mode byte).
-  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_ply_list_count",
-                   std::ios::binary);
-  ASSERT_TRUE(in);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1u);
-  expect_refused(write("regression_list.ply", bytes.substr(1)), "has a list of 399125025 values");
+  const std::string bytes = corpus_mesh("regression_ply_list_count");
+  ASSERT_FALSE(bytes.empty());
+  expect_refused(write("regression_list.ply", bytes), "has a list of 399125025 values");
   // A claim within the line's length is not this check's business.
   try {
     load_mesh(write("short_list.ply", head + "5 1 2 3\n"));
@@ -219,12 +221,9 @@ TEST_F(HostileMeshes, AnEndHeaderAssimpDoesNotReadIsRefused) {
     ASSERT_TRUE(mesh);
     EXPECT_EQ(mesh->triangles.size(), 1u);
   }
-  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_ply_vtab_end_header",
-                   std::ios::binary);
-  ASSERT_TRUE(in);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1u);
-  expect_refused(write("regression_vtab.ply", bytes.substr(1)), "PLY end_header line is not one assimp reads");
+  const std::string bytes = corpus_mesh("regression_ply_vtab_end_header");
+  ASSERT_FALSE(bytes.empty());
+  expect_refused(write("regression_vtab.ply", bytes), "PLY end_header line is not one assimp reads");
 }
 
 // A tetrahedron as OFF; `header` is the first line, `counts` the second.
@@ -302,12 +301,9 @@ TEST_F(HostileMeshes, DirectoriesAndHugeCoordinatesAreRefused) {
 // Found by the fuzzer: a PLY whose importer declared polygons it did not have made assimp's
 // TriangulateProcess assert (abort). The input is kept in the fuzz corpus (after its mode byte).
 TEST_F(HostileMeshes, DeclaredPolygonsWithoutPolygonsDoNotAbort) {
-  std::ifstream in(std::string(PORTER_SOURCE_DIR) + "/tests/fuzz/corpus/mesh_loader/regression_triangulate_assert",
-                   std::ios::binary);
-  ASSERT_TRUE(in);
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  ASSERT_GT(bytes.size(), 1u);
-  const std::string path = write("regression.ply", bytes.substr(1));
+  const std::string bytes = corpus_mesh("regression_triangulate_assert");
+  ASSERT_FALSE(bytes.empty());
+  const std::string path = write("regression.ply", bytes);
   try {
     const MeshPtr mesh = load_mesh(path);
     ASSERT_TRUE(mesh);
