@@ -36,33 +36,29 @@ class Fields {
 
   yaml::Reader section(const char* key) const { return r_.get(key); }
 
-  /// A finite number in [lo, hi] (open ends with lo_open / hi_open).
-  void number(const char* key, double& out, double lo, double hi, bool lo_open = false, bool hi_open = false) const {
-    const yaml::Reader v = r_.get(key);
-    const double x = v.as_double();
-    const bool ok = std::isfinite(x) && (lo_open ? x > lo : x >= lo) && (hi_open ? x < hi : x <= hi);
-    if (!ok) v.fail("must be in " + interval(lo, hi, lo_open, hi_open) + ", got " + v.node().Scalar());
-    out = x;
+  /// A finite number in [lo, hi] (in (lo, hi] with lo_open): yaml::Reader::as_in.
+  void number(const char* key, double& out, double lo, double hi, bool lo_open = false) const {
+    out = r_.get(key).as_in(lo, hi, "", lo_open);
   }
   /// (0, hi]
-  void positive(const char* key, double& out, double hi) const { number(key, out, 0.0, hi, true, false); }
+  void positive(const char* key, double& out, double hi) const { number(key, out, 0.0, hi, true); }
   /// [0, hi]
   void nonnegative(const char* key, double& out, double hi) const { number(key, out, 0.0, hi); }
   /// 0 (off, or derived from other settings) or in [lo, hi]: between 0 and lo a step or a cell
   /// would make its count explode.
   void zero_or_in(const char* key, double& out, double lo, double hi) const {
     number(key, out, 0.0, hi);
-    if (out > 0.0 && out < lo) r_.get(key).fail("must be 0 or in " + interval(lo, hi, false, false) + ", got " + r_.get(key).node().Scalar());
+    if (out > 0.0 && out < lo) r_.get(key).fail("must be 0 or in " + interval(lo, hi) + ", got " + r_.get(key).node().Scalar());
   }
   /// (0, 1]
-  void fraction(const char* key, double& out) const { number(key, out, 0.0, 1.0, true, false); }
+  void fraction(const char* key, double& out) const { number(key, out, 0.0, 1.0, true); }
   /// [0, 1]
   void probability(const char* key, double& out) const { number(key, out, 0.0, 1.0); }
   void integer(const char* key, int& out, int lo, int hi = std::numeric_limits<int>::max()) const {
     const yaml::Reader v = r_.get(key);
     const int x = v.as_int();
     if (x < lo || x > hi)
-      v.fail("must be in " + interval(lo, hi == std::numeric_limits<int>::max() ? kInf : hi, false, false) + ", got " +
+      v.fail("must be in " + interval(lo, hi == std::numeric_limits<int>::max() ? kInf : hi) + ", got " +
              v.node().Scalar());
     out = x;
   }
@@ -90,8 +86,8 @@ class Fields {
     if (!s.empty() && s.back() == '.') s.pop_back();
     return s;
   }
-  static std::string interval(double lo, double hi, bool lo_open, bool hi_open) {
-    return std::string(lo_open ? "(" : "[") + bound(lo) + ", " + bound(hi) + (hi_open || std::isinf(hi) ? ")" : "]");
+  static std::string interval(double lo, double hi) {
+    return "[" + bound(lo) + ", " + bound(hi) + (std::isinf(hi) ? ")" : "]");
   }
   yaml::Reader r_;
 };
