@@ -107,14 +107,26 @@ class AsciiLines {
 // reading a value: a count of 399125025 on a face line asked for 3.2 GB). A claim above the
 // values the line has but within its length is left to assimp, which reads what is there (so
 // allocating at most 8 bytes per character of the line).
+// A body with fewer lines than the header's instances is refused: past the file's end assimp
+// parses every missing instance from what its line buffer still holds (the last line, or stale
+// bytes), so a cut file whose last line began with 49761958, read as the face list count 388
+// times, took it past 24 GB (found by the suite's random-input test), and an element of 2e9
+// instances without properties is sized (48 GB) before a line is read.
 std::string check_ascii_lists(const std::vector<Element>& elements, std::string body) {
   AsciiLines lines(std::move(body));
   std::string line;
+  std::uint64_t read = 0;
   for (const Element& e : elements) {
     bool has_list = false;
     for (const Property& p : e.properties) has_list = has_list || p.list;
     for (std::uint64_t k = 0; k < e.count; ++k) {
-      if (!lines.next(line)) return {};  // assimp refuses a body that ends early
+      if (!lines.next(line)) {
+        std::uint64_t needed = 0;
+        for (const Element& each : elements) needed += each.count;
+        return "PLY body ends after " + std::to_string(read) + " lines; its header's elements need " +
+               std::to_string(needed) + " (" + e.name + " " + std::to_string(k) + " is missing)";
+      }
+      ++read;
       if (!has_list) continue;
       std::vector<std::string> tokens;
       std::istringstream words(line);
@@ -167,15 +179,21 @@ std::string check_binary_lists(const std::vector<Element>& elements, const std::
   const auto* data = reinterpret_cast<const unsigned char*>(body.data());
   std::size_t at = 0;
   for (const Element& e : elements) {
+    // Instances without properties take no bytes, so nothing bounds their count but the claim,
+    // and assimp sizes an array by it (24 bytes an instance).
+    if (e.properties.empty() && e.count > 0)
+      return "PLY element '" + e.name + "' has " + std::to_string(e.count) + " instances and no properties";
     for (std::uint64_t k = 0; k < e.count; ++k) {
       for (const Property& p : e.properties) {
+        const std::size_t value_bytes = static_cast<std::size_t>(p.list ? type_size(p.count_type) : p.bytes);
+        if (at + value_bytes > body.size())
+          return "PLY body ends after " + std::to_string(body.size()) + " bytes, inside " + e.name + " " +
+                 std::to_string(k) + " (a file cut short?)";
         if (!p.list) {
-          at += static_cast<std::size_t>(p.bytes);
-          if (at > body.size()) return {};  // assimp refuses a body that ends early
+          at += value_bytes;
           continue;
         }
-        const int count_bytes = type_size(p.count_type);
-        if (at + static_cast<std::size_t>(count_bytes) > body.size()) return {};
+        const int count_bytes = static_cast<int>(value_bytes);
         const double n = binary_list_count(data + at, p.count_type, count_bytes, big_endian);
         at += static_cast<std::size_t>(count_bytes);
         const std::size_t left = body.size() - at;
@@ -258,6 +276,12 @@ std::string check_ply_header(const std::string& path) {
       if (count.empty() || count.find_first_not_of("0123456789") != std::string::npos || count.size() > 18)
         return "PLY element '" + e.name + "' has count '" + count + "', not a non-negative integer";
       e.count = std::stoull(count);
+      // assimp 5.2 sizes a mesh's vertex (face) array by the first such element and then writes
+      // every vertex (face) element into it: "element vertex 1 ... element vertex 3" overran the
+      // heap, a second face element corrupted it (found by the fuzzer). Later assimp refuses
+      // any element declared twice; so does this check.
+      for (const Element& seen : elements)
+        if (seen.name == e.name) return "PLY element '" + e.name + "' is declared twice";
       elements.push_back(e);
     } else if (word == "property") {
       if (elements.empty()) return "PLY property before any element";

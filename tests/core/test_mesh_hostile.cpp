@@ -226,6 +226,65 @@ TEST_F(HostileMeshes, AnEndHeaderAssimpDoesNotReadIsRefused) {
   expect_refused(write("regression_vtab.ply", bytes), "PLY end_header line is not one assimp reads");
 }
 
+// assimp 5.2 sizes the vertex (face) array by the first vertex (face) element and writes every
+// later one into it: a larger second one overran the heap ("malloc(): corrupted top size"), a
+// fuzzed 7 kB PLY with two headers in it took load_mesh past 7 GB. An element declared twice is
+// refused, as later assimp refuses it.
+TEST_F(HostileMeshes, AnElementDeclaredTwiceIsRefused) {
+  const std::string xyz = "property float x\nproperty float y\nproperty float z\n";
+  const std::string faces = "element face 1\nproperty list uchar int vertex_indices\n";
+  const std::string body = "end_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  const std::string head = "ply\nformat ascii 1.0\n";
+  expect_refused(write("two_vertex.ply", head + "element vertex 1\n" + xyz + "element vertex 3\n" + xyz + faces + body),
+                 "PLY element 'vertex' is declared twice");
+  expect_refused(write("two_face.ply", head + "element vertex 3\n" + xyz + faces + faces + body + "3 0 1 2\n"),
+                 "PLY element 'face' is declared twice");
+  expect_refused(write("two_other.ply", head + "element vertex 3\n" + xyz + faces + "element edge 0\nelement edge 0\n" + body),
+                 "PLY element 'edge' is declared twice");
+  const std::string bytes = corpus_mesh("regression_ply_duplicate_vertex_element");
+  ASSERT_FALSE(bytes.empty());
+  expect_refused(write("regression_duplicate.ply", bytes), "PLY element 'vertex' is declared twice");
+  // One of each, and a comment that names an element, load.
+  const MeshPtr mesh = load_mesh(write("once.ply", head + "comment vertex 3\nelement vertex 3\n" + xyz + faces + body));
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->triangles.size(), 1u);
+}
+
+// Past a body's end assimp parses each missing instance from what its line buffer still holds:
+// a cut file whose last line began with 49761958 became 388 faces of 49761958 indices (past 24 GB;
+// found by the suite's random-input test). A body shorter than its header is refused, ASCII or
+// binary, and so is an element with no properties whose instances would take no bytes.
+TEST_F(HostileMeshes, APlyBodyShorterThanItsHeaderIsRefused) {
+  const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                           "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n";
+  expect_refused(write("cut.ply", head + "400000000 1 2 3 4 5 6 7 8 9 10 11\n"),
+                 "PLY body ends after 1 lines; its header's elements need 6 (vertex 1 is missing)");
+  expect_refused(write("cut_faces.ply", head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"),
+                 "PLY body ends after 4 lines; its header's elements need 6 (face 1 is missing)");
+  expect_refused(write("empty_body.ply", head), "the file has 0 after its header");
+  const std::string bytes = corpus_mesh("regression_ply_cut_body");
+  ASSERT_FALSE(bytes.empty());
+  expect_refused(write("regression_cut.ply", bytes), "PLY body ends after 41 lines; its header's elements need 584");
+  // An element without properties needs its lines in ASCII; in binary nothing bounds it.
+  std::string no_props = head;
+  no_props.insert(no_props.find("element face"), "element edge 2000000000\n");
+  expect_refused(write("no_props.ply", no_props + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n3 0 1 2\n"),
+                 "PLY body ends after 6 lines; its header's elements need 2000000006 (edge 3 is missing)");
+  for (const bool big : {false, true}) {
+    SCOPED_TRACE(big ? "big endian" : "little endian");
+    const std::string tetra = binary_tetra_ply(big);
+    // The last face (a one-byte count and three 4-byte indices) cut off.
+    expect_refused(write("binary_cut.ply", tetra.substr(0, tetra.size() - 13)), "bytes, inside face 3 (a file cut short?)");
+    std::string edges = tetra;
+    edges.insert(edges.find("end_header"), "element edge 1000\n");
+    expect_refused(write("binary_no_props.ply", edges), "PLY element 'edge' has 1000 instances and no properties");
+  }
+  // Whole, with lines to spare, it loads.
+  const MeshPtr mesh = load_mesh(write("whole.ply", head + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 2 1\n3 0 1 2\n\n0 0 0\n"));
+  ASSERT_TRUE(mesh);
+  EXPECT_EQ(mesh->triangles.size(), 3u);
+}
+
 // A tetrahedron as OFF; `header` is the first line, `counts` the second.
 std::string tetra_off(const std::string& header = "OFF", const std::string& counts = "4 4 0") {
   return header + "\n" + counts + "\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
