@@ -231,9 +231,17 @@ std::string check_ply_header(const std::string& path) {
   std::vector<Element> elements;
   std::size_t header_bytes = 0;
   bool ended = false;
-  std::size_t start = first_end + 1;
-  if (first_end < head.size() && head[first_end] == '\r' && start < head.size() && head[start] == '\n') ++start;
+  const std::size_t start = first_end + 1;
   for (std::size_t pos = start; pos < head.size() && !ended;) {
+    // As assimp's getNextLine: a line that starts at a line end first skips through the next
+    // '\n' ("\r\n" ends one line). Reading every '\0' as an empty line let a header whose
+    // end_header followed a run of NULs on the same '\n'-line pass, and assimp, skipping that
+    // run together with end_header, looked for its end for ever (found by the fuzzer).
+    if (line_end(head[pos])) {
+      while (pos < head.size() && head[pos] != '\n') ++pos;
+      if (pos >= head.size() && head.size() > kMaxHeaderBytes) return "PLY header longer than 64 kB";
+      if (++pos >= head.size()) break;
+    }
     std::size_t end = pos;
     while (end < head.size() && !line_end(head[end])) ++end;
     if (end >= head.size() && head.size() > kMaxHeaderBytes) return "PLY header longer than 64 kB";

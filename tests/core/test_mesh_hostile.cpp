@@ -133,6 +133,14 @@ TEST_F(HostileMeshes, PlyHeaderLinesEndWhereAssimpEndsThem) {
   expect_refused(write("magic_tail.ply", std::string("ply\x80\xdfmJ\xd4\fformat ascii 1.0\n0 0 0\n")),
                  "PLY header has no end_header");
   expect_refused(write("upper_magic.ply", "PLY\nformat ascii 1.0\n0 0 0\n"), "PLY header has no end_header");
+  // A line that starts at a line end skips through the next '\n', end_header with it (found by
+  // the fuzzer: a timeout).
+  expect_refused(write("nul_run.ply", std::string("ply\nformat ascii 1.0\nelement vertex 0\n") + std::string(5, '\0') +
+                                          "end_header\n"),
+                 "PLY header has no end_header");
+  const std::string nul_run = corpus_mesh("regression_ply_nul_run_end_header");
+  ASSERT_FALSE(nul_run.empty());
+  expect_refused(write("regression_nul_run.ply", nul_run), "PLY header has no end_header");
   // Every line end assimp knows, in a well-formed tetrahedron: it loads.
   for (const char end : {'\n', '\r', '\f'}) {
     std::string text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
@@ -141,6 +149,18 @@ TEST_F(HostileMeshes, PlyHeaderLinesEndWhereAssimpEndsThem) {
     text += "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
     SCOPED_TRACE(static_cast<int>(end));
     const MeshPtr mesh = load_mesh(write("tetra_ends.ply", text));
+    ASSERT_TRUE(mesh);
+    EXPECT_EQ(mesh->triangles.size(), 4u);
+  }
+  // "\r\n" and blank lines, header and body.
+  for (const std::string end : {"\r\n", "\n\n", "\n\r\n"}) {
+    std::string text = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                       "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+                       "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    std::string ended;
+    for (const char c : text) ended += c == '\n' ? end : std::string(1, c);
+    SCOPED_TRACE(end.size());
+    const MeshPtr mesh = load_mesh(write("tetra_crlf.ply", ended));
     ASSERT_TRUE(mesh);
     EXPECT_EQ(mesh->triangles.size(), 4u);
   }
