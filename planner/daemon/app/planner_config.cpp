@@ -60,9 +60,12 @@ PlannerConfig load_planner_config(const std::string& path) {
   out.loop.max_state_age_s = state.get("max_age_s").as_in(0.0, 3600.0, "s", true);
 
   const auto replan = cfg.get("replan");
-  replan.expect_keys({"lead_s", "latency_s", "collision_step_s", "max_attempts", "seed", "arrival_tolerance_m"});
+  replan.expect_keys(
+      {"lead_s", "latency_s", "reserve_s", "collision_step_s", "max_attempts", "seed", "arrival_tolerance_m"});
   out.loop.handoff.lead_s = replan.get("lead_s").as_in(0.0, 3600.0, "s", true);
   out.loop.handoff.latency_s = replan.get("latency_s").as_in(0.0, 3600.0, "s", true);
+  // Less than the lead (checked below with it), so at most a minute.
+  out.loop.handoff_reserve_s = replan.get("reserve_s").as_in(0.0, 60.0, "s");
   // The executing trajectory is sampled at this step on every map: 1 ms at least.
   out.loop.collision_step_s = replan.get("collision_step_s").as_in(1e-3, 10.0, "s");
   out.loop.arrival_tolerance_m = replan.get("arrival_tolerance_m").as_in(0.0, 100.0, "m", true);
@@ -88,6 +91,8 @@ PlannerConfig load_planner_config(const std::string& path) {
     replan.get("lead_s").fail("must exceed the pipeline's longest plan (" + std::to_string(worst) +
                               " s, from " + out.settings_dir + ") plus latency_s");
   }
+  if (out.loop.handoff_reserve_s + out.loop.handoff.latency_s >= out.loop.handoff.lead_s)
+    replan.get("reserve_s").fail("plus latency_s must be less than lead_s");
   try {
     out.loop.validate();
   } catch (const std::invalid_argument& e) {

@@ -65,6 +65,8 @@ void GoalLoopParams::validate() const {
   positive(arrival_tolerance_m, "arrival_tolerance_m");
   if (handoff.latency_s >= handoff.lead_s) throw std::invalid_argument("handoff.latency_s must be < handoff.lead_s");
   if (max_attempts < 1) throw std::invalid_argument("max_attempts must be >= 1");
+  if (!(handoff_reserve_s >= 0.0) || !std::isfinite(handoff_reserve_s))
+    throw std::invalid_argument("handoff_reserve_s must be >= 0");
 }
 
 const char* to_string(GoalLoopState s) {
@@ -247,12 +249,18 @@ Outcome GoalLoop::plan(const Attempt& attempt, Outcome out) {
   request.seed = params_.seed + static_cast<std::uint64_t>(stats_.plans - 1);
   request.stages = pipeline::Stages::kFull;
   request.cancel = params_.cancel;
+  if (attempt.start_utime != 0) {
+    const double until_s = static_cast<double>(attempt.start_utime - clock_()) * 1e-6 - params_.handoff.latency_s -
+                           params_.handoff_reserve_s;
+    request.time_available_s = std::max(0.0, until_s);
+  }
   const pipeline::PlanResult r = planner_->plan(request);
   const std::int64_t now = clock_();
 
   Report rep = report(GoalLoopState::kSucceeded, attempt.replan ? "re-planned around a collision ahead" : "");
   rep.stages = stage_timings(r);
   rep.total_s = r.total_s;
+  rep.time_available_s = request.time_available_s;
   std::string failure;
   if (!r.success() || !r.trajectory) {
     failure = std::string(planner::to_string(r.status)) + (r.message.empty() ? "" : ": " + r.message);
@@ -262,6 +270,7 @@ Outcome GoalLoop::plan(const Attempt& attempt, Outcome out) {
   }
   std::string timing;
   for (const auto& s : rep.stages) timing += " " + s.name + " " + fmt("%.1f ms", s.time_s * 1e3) + " (" + s.status + ")";
+  if (request.time_available_s > 0.0) timing += fmt("; given %.2f s until the hand-off", request.time_available_s);
   if (!failure.empty()) {
     rep.state = GoalLoopState::kFailed;
     rep.reason = failure;

@@ -219,7 +219,11 @@ PlanResult Planner::plan(const PlanRequest& req) {
   }
   const double setup_s = build ? seconds_since(t_setup) : 0.0;
   r.setup_s += setup_s;
-  r.backend = detail::run_backend(backend_, mid, map_W_, *safety_term_, self_term_.get(), p.backend_budget_s,
+  // The caller's time left, when longer than the back-end's own budget (NaN and inf: not used).
+  double backend_budget_s = p.backend_budget_s;
+  const double left_s = req.time_available_s - seconds_since(t0);
+  if (std::isfinite(req.time_available_s) && left_s > backend_budget_s) backend_budget_s = left_s;
+  r.backend = detail::run_backend(backend_, mid, map_W_, *safety_term_, self_term_.get(), backend_budget_s,
                                   p.choose_warm_start_by_safety, *acceptance_, req.cancel);
   BackendReport& be = *r.backend;
   be.setup_s = setup_s;

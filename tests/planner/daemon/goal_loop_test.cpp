@@ -198,6 +198,12 @@ TEST_F(GoalLoopTest, AnObstacleSeenAheadIsReplannedFromTheHandoffOrBrakedFor) {
   EXPECT_EQ(loop_->stats().plans, 2);
   ASSERT_TRUE(has_state(o, GoalLoopState::kReplanning)) << reasons(o);
   EXPECT_NE(o.reports.front().reason.find("re-plan from"), std::string::npos) << reasons(o);
+  // The re-plan may take the time until its hand-off, less latency and reserve (the back-end
+  // takes it when that is longer than its budget). The hand-off is lead_s into the executing
+  // trajectory, which starts at most latency_s after now.
+  ASSERT_GE(o.reports.size(), 2u) << reasons(o);
+  EXPECT_GT(o.reports[1].time_available_s, 0.0) << reasons(o);
+  EXPECT_LE(o.reports[1].time_available_s, p.handoff.lead_s - p.handoff_reserve_s);
   ASSERT_TRUE(o.publication.has_value()) << reasons(o);
   const Publication& next = *o.publication;
   const double th = static_cast<double>(next.start_utime - first.start_utime) * 1e-6;

@@ -38,6 +38,34 @@ TEST(PipelineRequest, PlanningFromAMovingStateContinuesItsVelocityAndAcceleratio
   EXPECT_LT(t.velocity(t.total_duration_s()).norm(), 1e-9);
 }
 
+// The caller's time (a daemon's hand-off seconds away) lengthens the back-end's budget when the
+// stages before it leave more than the budget; less time, none, or NaN leave the budget as set.
+// bridge h_b 1.1 seed 4: the mid-end's trajectory collides and the back-end runs (the recorded
+// ablation seeds); a 1 ms back-end budget cannot finish it.
+TEST(PipelineRequest, TheCallersTimeLengthensTheBackendBudget) {
+  const Scene s = testing::scene("bridge", 1.1, 4);
+  PlannerSettings settings = testing::shipped_settings(s);
+  testing::generous_budgets(settings);
+  settings.pipeline.backend_budget_s = 1e-3;
+  Planner planner(testing::robot_for(s), settings);
+  ASSERT_TRUE(planner.set_map(voxelize(s)).ok);
+  for (const double t : {0.0, 1e-4, std::nan("")}) {
+    PlanRequest req = testing::request(s);
+    req.time_available_s = t;
+    const PlanResult r = planner.plan(req);
+    ASSERT_TRUE(r.backend.has_value()) << t << ": " << r.message;
+    EXPECT_EQ(r.backend->budget_s, 1e-3) << t;
+  }
+  PlanRequest req = testing::request(s);
+  req.time_available_s = 120.0;
+  const PlanResult r = planner.plan(req);
+  ASSERT_TRUE(r.backend.has_value()) << r.message;
+  EXPECT_GT(r.backend->budget_s, 1e-3);
+  EXPECT_LT(r.backend->budget_s, 120.0);
+  EXPECT_EQ(r.backend->result.status, planner::Status::kConverged) << r.backend->result.message;
+  EXPECT_EQ(r.status, planner::Status::kSuccess) << r.message;
+}
+
 TEST(PipelineRequest, AStartStateAgainstTheHeadingIsRefused) {
   const Scene s = testing::scene("empty");
   Planner planner(testing::robot_for(s), testing::shipped_settings(s));

@@ -60,6 +60,10 @@ struct GoalLoopParams {
   /// by a plan from rest (while attempts remain), m (> 0).
   double arrival_tolerance_m = 0.3;
   std::uint64_t seed = 1;         ///< seed of the first plan; later plans use seed + n
+  /// A plan for a hand-off may run until the hand-off minus handoff.latency_s and this reserve
+  /// (the back-end's final check, a loaded computer), s (>= 0): its back-end takes that time when
+  /// it is longer than the back-end's budget. Plans from rest keep the settings' budgets.
+  double handoff_reserve_s = 0.3;
   const planner::CancelFlag* cancel = nullptr;  ///< ends a running plan when set (optional)
 
   /// Throws std::invalid_argument naming the first invalid field.
@@ -104,6 +108,9 @@ struct Report {
   std::vector<StageTiming> stages;
   double total_s = 0.0;
   double duration_s = 0.0;  ///< of the published trajectory (0 when none)
+  /// The time a plan for a hand-off was given (PlanRequest::time_available_s), s; 0 for a plan
+  /// from rest (the settings' budgets).
+  double time_available_s = 0.0;
 };
 
 /// A trajectory to publish on TRAJECTORY.

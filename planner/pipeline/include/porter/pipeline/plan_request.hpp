@@ -77,6 +77,11 @@ struct PlanRequest {
   /// Set by another thread to end the plan early (PlanResult::status kCanceled). Optional; must
   /// outlive plan().
   const planner::CancelFlag* cancel = nullptr;
+  /// How long the caller can wait for this plan, from the call, s; 0: the settings' budgets alone.
+  /// The back-end is the stage that runs to its budget when it has not converged; when the stages
+  /// before it leave more of this time than its budget, it takes that instead (a daemon
+  /// re-planning for a hand-off two seconds away need not give up after 0.3 s).
+  double time_available_s = 0.0;
 };
 
 }  // namespace porter::pipeline
